@@ -1,0 +1,31 @@
+# Quick start on a bare Debian 12 (as root): `make demo` and `make test`.
+BUILD ?= build
+JOBS ?= 2
+DEMO_OUT ?= demo_output
+# Debian's catkin needs the system python (a pyenv python lacks catkin_pkg).
+export PATH := /usr/bin:$(PATH)
+CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+  -DPython3_EXECUTABLE=/usr/bin/python3 -DCMAKE_CXX_COMPILER_LAUNCHER=ccache
+BIN = $(BUILD)/devel/lib/cloth_hair_sim
+
+.PHONY: deps build test demo format clean
+
+deps:
+	bash scripts/install-deps.sh
+
+build: deps
+	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
+	cmake --build $(BUILD) -j$(JOBS)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+
+demo: build
+	$(BIN)/drape scenes/tablecloth_fem.yaml --out $(DEMO_OUT)/tablecloth
+	@echo "demo: draped mesh, report.json and pictures are in $(DEMO_OUT)/tablecloth"
+
+format:
+	find include src test -name '*.h' -o -name '*.cpp' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD) $(DEMO_OUT)

@@ -1,0 +1,78 @@
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/material/shell_material.h"
+#include "cloth_hair_sim/core/mesh/quad_mesh.h"
+
+namespace chs {
+
+// A prescribed nodal force and moment (the moment acts on the director; used by the beam cases).
+struct NodalLoad {
+  int vertex = -1;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+};
+
+// A single translational degree of freedom held at its initial value.
+struct FixedComponent {
+  int vertex = -1;
+  int axis = 0;  // 0 = x, 1 = y, 2 = z
+};
+
+struct BoundaryConditions {
+  std::vector<int> clamped;  // position and director held
+  std::vector<int> pinned;   // position held, director free
+  std::vector<FixedComponent> fixed_components;
+  std::vector<NodalLoad> loads;  // scaled by the load factor
+};
+
+// A static drape: a garment in its flat (stress-free) state, its material, gravity, the rigid
+// obstacles and the boundary conditions. Shared by the FEM shell and the particle method.
+struct DrapeProblem {
+  QuadMesh mesh;  // reference (stress-free) configuration
+  ShellMaterial material;
+  Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  RigidSurfaces colliders;
+  BoundaryConditions bc;
+
+  // Throws InputError naming the problem: material, mesh, indices out of range.
+  void validate() const;
+};
+
+// Contact force a rigid surface exerts on one vertex.
+struct ContactReaction {
+  int vertex = -1;
+  int surface = -1;  // index into DrapeProblem::colliders
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+};
+
+// One line of progress: shown while a solve runs, kept for the report.
+struct ProgressEvent {
+  int load_step = 0;
+  double load_factor = 0.0;
+  int iteration = 0;
+  double residual = 0.0;  // relative residual norm
+  int active_contacts = 0;
+};
+using ProgressCallback = std::function<void(const ProgressEvent&)>;
+
+struct DrapeResult {
+  bool converged = false;
+  std::string status;  // what happened, in words
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector3d> directors;  // FEM shell only (unit normals of the fibres)
+  int load_steps = 0;
+  int iterations = 0;  // total Newton (or relaxation) iterations
+  double load_factor = 0.0;
+  double residual = 0.0;
+  std::vector<ProgressEvent> history;
+  std::vector<ContactReaction> reactions;
+  double wall_time_s = 0.0;
+};
+
+}  // namespace chs

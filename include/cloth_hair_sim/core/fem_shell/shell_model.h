@@ -1,0 +1,45 @@
+#pragma once
+#include <vector>
+
+#include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/fem_shell/shell_element.h"
+#include "cloth_hair_sim/core/solver/continuation_problem.h"
+
+namespace chs {
+
+// The assembled FEM shell of a drape problem: Simo-Fox elements, boundary conditions, the
+// reference load (gravity, nodal forces and moments) and node-on-surface penalty contact with
+// the rigid colliders (seed 000 eqs. (27)-(35)), as a ContinuationProblem for the path-following
+// solver. Unknowns: 5 per node (3 translations + 2 director increments), constrained ones removed.
+class ShellModel : public ContinuationProblem {
+ public:
+  ShellModel(const DrapeProblem& problem, double contact_stiffness);
+
+  int size() const override { return num_free_; }
+  void linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
+                 Eigen::SparseMatrix<double>* K) override;
+  void increment(const Eigen::VectorXd& dq) override;
+  void save() override { saved_ = nodes_; }
+  void restore() override { nodes_ = saved_; }
+  double loadNorm() const override { return load_norm_; }
+  double lengthScale() const override { return length_scale_; }
+  int activeContacts() const override { return active_contacts_; }
+
+  const std::vector<ShellNode>& nodes() const { return nodes_; }
+  // Contact forces the colliders exert at the current state.
+  std::vector<ContactReaction> reactions() const;
+  double contactStiffness() const { return k_contact_; }
+
+ private:
+  const DrapeProblem& problem_;
+  std::vector<ShellElement> elements_;
+  std::vector<ShellNode> nodes_, saved_;
+  std::vector<int> dof_;                 // 5 per vertex, -1 when constrained
+  std::vector<Eigen::Vector3d> f_dead_;  // reference forces (gravity + nodal forces)
+  std::vector<Eigen::Vector3d> moment_;  // reference nodal moments
+  int num_free_ = 0;
+  double load_norm_ = 0.0, length_scale_ = 1.0, k_contact_ = 0.0;
+  int active_contacts_ = 0;
+};
+
+}  // namespace chs

@@ -1,0 +1,34 @@
+#pragma once
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/contact/rigid_surface.h"
+
+namespace chs {
+
+// The geometry of a scene's rigid obstacle as written in the scene file. Kept next to the
+// RigidSurface built from it because the surfaces expose no geometry, and pictures need it.
+struct ColliderSpec {
+  enum class Type { kPlane, kBox, kCylinder, kSphere };
+  Type type = Type::kPlane;
+  std::string label;  // as named in the scene: plane, table, box, pedestal, cylinder, sphere
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();   // plane: a point; sphere: centre
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // plane: outward normal
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();  // box corners
+  Eigen::Vector2d axis_xy = Eigen::Vector2d::Zero();  // cylinder axis position
+  double radius = 0.0;                                // cylinder, sphere
+  double z_bottom = 0.0, z_top = 0.0;                 // cylinder
+
+  std::shared_ptr<const RigidSurface> makeSurface() const;
+};
+
+// Quads approximating the obstacle's surface down to z_floor, for pictures only (planes give a
+// square of half-size extent around point).
+using QuadPatches = std::vector<std::array<Eigen::Vector3d, 4>>;
+QuadPatches sketchCollider(const ColliderSpec& spec, double z_floor, double extent);
+
+}  // namespace chs

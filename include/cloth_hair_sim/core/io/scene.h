@@ -1,0 +1,76 @@
+#pragma once
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
+#include "cloth_hair_sim/core/io/collider_spec.h"
+
+namespace chs {
+
+enum class DrapeMethod { kFemShell, kParticle };
+std::string methodName(DrapeMethod method);
+// Throws InputError for anything but fem_shell | particle.
+DrapeMethod parseMethod(const std::string& name);
+
+// File names of a run's results, relative to directory (the drape tool's --out overrides it).
+struct SceneOutput {
+  std::string directory;  // default drape_output/<scene name>
+  std::string obj = "draped.obj";
+  std::string ply = "draped.ply";
+  std::string report = "report.json";
+  std::string convergence = "convergence.png";
+  std::string picture = "drape.png";
+};
+
+// A drape scene file turned into a validated problem plus how to solve it and where to put the
+// results. YAML, SI units (m, Pa, kg/m^2, N); every key is checked, unknown keys are errors:
+//   name: text                          (default: the file's stem)
+//   method: fem_shell | particle        (default fem_shell)
+//   gravity: [gx, gy, gz]               (default [0, 0, -9.81])
+//   garment: one of
+//     rectangle: {size: [lx, ly], cells: [nx, ny], centre: [x, y, z]}
+//     disc: {radius: r, cells: n_across, centre: [x, y, z]}
+//     file: path | {path: p, scale: s, translate: [x, y, z]}  (path relative to the scene)
+//   material: preset name (cotton_eischen, wool_suiting) or {preset: name (optional),
+//     young [Pa], poisson, thickness [m], areal_density [kg/m^2], shear_correction,
+//     bending_rigidity [N m] (instead of young)}: without a preset all four are required
+//   colliders: list of one-key mappings:
+//     plane: {point, normal} | box: {min, max} | sphere: {centre, radius}
+//     table: {top_centre: [x, y, z], size: [sx, sy], depth}   (a box below its top face)
+//     pedestal | cylinder: {top_centre: [x, y, z], radius, depth}  (vertical axis)
+//   boundary: {clamped: S, pinned: S, fixed: [{vertices: S, axes: [x, y, z]}],
+//              loads: [{vertices: S, force: [..], moment: [..]}]}
+//     S, a vertex selector: an index, a list of selectors, or one of {vertex: i},
+//     {vertices: [..]}, {nearest: [x, y, z]}, {plane: {axis: x|y|z, value, tolerance}},
+//     {box: {min, max}}, {boundary: true}
+//   fem_shell: FemShellSettings fields by name
+//   particle: particle-method settings, name: number
+//   output: {directory, obj, ply, report, convergence, picture}
+struct Scene {
+  std::string name;
+  std::string file;  // the scene file, "" when parsed from text
+  DrapeProblem problem;
+  std::string material_name;  // preset name, "custom", or "<preset> (modified)"
+  std::vector<ColliderSpec> colliders;  // problem.colliders was built from these, same order
+  DrapeMethod method = DrapeMethod::kFemShell;
+  FemShellSettings fem_shell;
+  // Particle-method settings by name, passed on to the particle solver, which checks the names.
+  std::map<std::string, double> particle;
+  SceneOutput output;
+};
+
+// Throws InputError naming the file and the offending key (unknown keys, nonsense values,
+// missing garment file, invalid mesh or boundary conditions).
+Scene loadScene(const std::string& path);
+// base_dir resolves garment file paths; name is used when the text has no `name`.
+Scene parseScene(const std::string& yaml_text, const std::string& base_dir,
+                 const std::string& name);
+
+// Named values for reports.
+std::vector<std::pair<std::string, double>> settingsList(const FemShellSettings& settings);
+std::vector<std::pair<std::string, double>> materialList(const ShellMaterial& material);
+
+}  // namespace chs

@@ -1,0 +1,79 @@
+#pragma once
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/particle/particle_loads.h"
+#include "cloth_hair_sim/core/particle/particle_network.h"
+
+namespace chs {
+
+struct ParticleDynamicsSettings {
+  ParticleNetworkOptions network;  // D', B' as in the static model
+  double damping = 0.0;            // [1/s] viscous damping force -damping m v
+  double restitution = 0.0;        // normal velocity after an impact = -restitution x before
+  double contact_tolerance = 0.0;  // gap counted as contact; 0: 1e-6 b
+};
+
+// The dynamic particle model of seed 000 section 3.3: m dv/dt = W + F_ext + F_stretch + F_bend
+// + F_shear - damping m v (eq. 50), integrated with classical fourth-order Runge-Kutta on the
+// state (x, v). Masses are lumped from the areal density (a quarter of each adjacent quad).
+// Obstacles: while a node touches one, the inward normal part of its resultant is cancelled as
+// in the static model; after each step a penetrating node is put back on the surface and its
+// inward normal velocity reversed times the restitution.
+//
+// Clamped and pinned vertices of the problem start pinned at their reference positions; pins
+// can be added, moved and released between steps (a ROS node drives them). A pin moved to a new
+// target carries its vertex there at constant velocity over the next step. Fixed components stay
+// held. Explicit RK4 is conditionally stable: keep dt below stableTimeStep().
+class ParticleDynamics {
+ public:
+  // Throws InputError for a bad problem or settings (the areal density must be positive).
+  explicit ParticleDynamics(const DrapeProblem& problem,
+                            const ParticleDynamicsSettings& settings = {});
+
+  void step(double dt);
+  double time() const { return time_; }
+  int numVertices() const { return static_cast<int>(x_.size()); }
+
+  const std::vector<Eigen::Vector3d>& positions() const { return x_; }
+  const std::vector<Eigen::Vector3d>& velocities() const { return v_; }
+  void setPositions(const std::vector<Eigen::Vector3d>& x);  // pins keep their targets
+  void setVelocities(const std::vector<Eigen::Vector3d>& v);
+
+  void pin(int vertex);                                 // at its current position
+  void pin(int vertex, const Eigen::Vector3d& target);  // or move it to target
+  void unpin(int vertex);
+  bool isPinned(int vertex) const { return pinned_.at(vertex) != 0; }
+
+  const std::vector<double>& masses() const { return loads_.masses(); }
+  double kineticEnergy() const;
+  double elasticEnergy() const { return network_.elasticEnergy(x_); }
+  double externalPotential() const { return loads_.potential(x_); }  // gravity, nodal forces
+  double potentialEnergy() const { return elasticEnergy() + externalPotential(); }
+  Eigen::Vector3d centreOfMass() const;
+  // 2 / omega_max with omega_max^2 bounded by the largest stiffness bound / mass: inside RK4's
+  // stability interval (|omega dt| < 2.8) for the undamped network.
+  double stableTimeStep() const;
+  // Forces the obstacles exert on the nodes now touching them.
+  std::vector<ContactReaction> contactReactions() const;
+
+ private:
+  void acceleration(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
+                    std::vector<Eigen::Vector3d>& a, std::vector<ContactReaction>* reactions) const;
+  void checkVertex(int vertex) const;
+
+  ParticleDynamicsSettings settings_;
+  ParticleNetwork network_;
+  ParticleLoads loads_;
+  RigidSurfaces surfaces_;
+  double contact_tolerance_ = 0.0;
+  std::vector<Eigen::Vector3d> mask_;  // 1 where an axis is free
+  std::vector<char> pinned_;
+  std::vector<Eigen::Vector3d> target_;
+  std::vector<Eigen::Vector3d> x_, v_;
+  double time_ = 0.0;
+};
+
+}  // namespace chs

@@ -1,0 +1,40 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/solver/continuation_problem.h"
+
+namespace chs {
+
+struct ArcLengthSettings {
+  double tolerance = 1e-8;
+  int max_iterations_per_step = 30;
+  int target_iterations = 6;
+  double initial_load_increment = 0.05;
+  double max_load_increment = 1.0;
+  int max_load_steps = 400;
+  int max_cutbacks = 20;
+  bool arc_length = true;
+};
+
+struct ContinuationResult {
+  bool converged = false;
+  std::string status;
+  double lambda = 0.0;  // load factor of the returned (last converged) state
+  int load_steps = 0;
+  int iterations = 0;
+  int cutbacks = 0;
+  double residual = 0.0;
+  std::vector<ProgressEvent> history;
+};
+
+// Newton-Raphson with the adaptive arc-length method of seed 000 section 2.2.3: Schweizerhof-
+// Wriggers constraint (19) scaled by the acceleration factor (20), increments (21)-(26), and on
+// divergence the arc length is halved and the load step restarted from the last converged state.
+// The last step switches to load control so that lambda lands on 1 exactly. The problem is left
+// at the last converged state when the solve fails.
+ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthSettings& settings,
+                                  const ProgressCallback& progress = {});
+
+}  // namespace chs

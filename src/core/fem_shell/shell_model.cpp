@@ -1,0 +1,174 @@
+#include "cloth_hair_sim/core/fem_shell/shell_model.h"
+
+#include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+
+namespace chs {
+
+namespace {
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return S;
+}
+}  // namespace
+
+ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
+    : problem_(problem) {
+  const QuadMesh& mesh = problem.mesh;
+  const int nv = mesh.numVertices();
+  // Reference directors t_0: area-weighted vertex normals of the stress-free mesh (eq. (2)).
+  std::vector<Eigen::Vector3d> normal(nv, Eigen::Vector3d::Zero());
+  for (const auto& q : mesh.quads) {
+    const Eigen::Vector3d n = (mesh.vertices[q[2]] - mesh.vertices[q[0]])
+                                  .cross(mesh.vertices[q[3]] - mesh.vertices[q[1]]);
+    for (int v : q) normal[v] += n;
+  }
+  nodes_.resize(nv);
+  for (int v = 0; v < nv; ++v) {
+    nodes_[v].position = mesh.vertices[v];
+    nodes_[v].frame = DirectorFrame(normal[v].normalized());
+  }
+  f_dead_.assign(nv, Eigen::Vector3d::Zero());
+  moment_.assign(nv, Eigen::Vector3d::Zero());
+  elements_.reserve(mesh.numQuads());
+  for (int e = 0; e < mesh.numQuads(); ++e) {
+    const auto& q = mesh.quads[e];
+    std::array<Eigen::Vector3d, 4> X, T;
+    for (int I = 0; I < 4; ++I) X[I] = mesh.vertices[q[I]], T[I] = nodes_[q[I]].frame.director();
+    elements_.emplace_back(q, X, T, problem.material);
+    if (!elements_.back().isValid())
+      throw InputError("quad " + std::to_string(e) + " is degenerate or folded over");
+    // Gravity as a distributed load, consistently lumped: int N_I rho g dA.
+    for (int I = 0; I < 4; ++I)
+      f_dead_[q[I]] += elements_.back().nodalAreas()[I] * problem.material.areal_density *
+                       problem.gravity;
+  }
+  for (const auto& l : problem.bc.loads) {
+    f_dead_[l.vertex] += l.force;
+    moment_[l.vertex] += l.moment;
+  }
+
+  dof_.assign(5 * nv, 0);
+  for (int v : problem.bc.clamped)
+    for (int k = 0; k < 5; ++k) dof_[5 * v + k] = -1;
+  for (int v : problem.bc.pinned)
+    for (int k = 0; k < 3; ++k) dof_[5 * v + k] = -1;
+  for (const auto& f : problem.bc.fixed_components) dof_[5 * f.vertex + f.axis] = -1;
+  for (int& d : dof_)
+    if (d == 0) d = num_free_++;
+  if (num_free_ == 5 * nv && problem.colliders.empty())
+    throw InputError(
+        "no support at all: nothing is clamped, pinned or fixed and there are no colliders, so "
+        "the garment has rigid-body modes");
+
+  double load2 = 0.0;
+  for (int v = 0; v < nv; ++v) load2 += f_dead_[v].squaredNorm() + moment_[v].squaredNorm();
+  load_norm_ = std::sqrt(load2);
+  Eigen::AlignedBox3d box;
+  for (const auto& x : mesh.vertices) box.extend(x);
+  length_scale_ = std::max(box.diagonal().norm(), 1e-12);
+  // Penalty k_c: a hundred times the membrane stiffness E h keeps penetration a fraction of the
+  // strains while leaving the tangent well conditioned for the direct solver.
+  k_contact_ = contact_stiffness > 0.0 ? contact_stiffness
+                                       : 100.0 * problem.material.young * problem.material.thickness;
+}
+
+void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
+                           Eigen::SparseMatrix<double>* K) {
+  const int nv = static_cast<int>(nodes_.size());
+  R.setZero(num_free_);
+  F0.setZero(num_free_);
+  std::vector<ElementVector> fe(elements_.size());
+  std::vector<ElementMatrix> Ke(K ? elements_.size() : 0);
+  tbb::parallel_for(std::size_t(0), elements_.size(), [&](std::size_t e) {
+    const auto& q = elements_[e].nodes();
+    const std::array<const ShellNode*, 4> st = {&nodes_[q[0]], &nodes_[q[1]], &nodes_[q[2]],
+                                                &nodes_[q[3]]};
+    elements_[e].evaluate(st, fe[e], K ? &Ke[e] : nullptr);
+  });
+
+  std::vector<Eigen::Triplet<double>> trip;
+  if (K) trip.reserve(elements_.size() * 400 + nv * 25);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const auto& q = elements_[e].nodes();
+    for (int a = 0; a < 20; ++a) {
+      const int ra = dof_[5 * q[a / 5] + a % 5];
+      if (ra < 0) continue;
+      R[ra] -= fe[e][a];  // -P, eq. (75)
+      if (!K) continue;
+      for (int b = 0; b < 20; ++b) {
+        const int cb = dof_[5 * q[b / 5] + b % 5];
+        if (cb >= 0) trip.emplace_back(ra, cb, Ke[e](a, b));
+      }
+    }
+  }
+
+  active_contacts_ = 0;
+  for (int v = 0; v < nv; ++v) {
+    const ShellNode& node = nodes_[v];
+    Eigen::Matrix<double, 5, 1> load;
+    Eigen::Matrix<double, 5, 5> Kn = Eigen::Matrix<double, 5, 5>::Zero();
+    // Dead forces, and nodal moments doing work on the director rotation omega = t x dt:
+    // virtual work (m x t).dt, load stiffness dt.[m]x.Dt (the exponential-map term vanishes as
+    // (m x t).t = 0).
+    const Eigen::Matrix<double, 3, 2> L = node.frame.basis();
+    const Eigen::Vector3d t = node.frame.director();
+    load.head<3>() = f_dead_[v];
+    load.tail<2>() = L.transpose() * moment_[v].cross(t);
+    Kn.bottomRightCorner<2, 2>() = -lambda * L.transpose() * skew(moment_[v]) * L;
+    Eigen::Vector3d fc = Eigen::Vector3d::Zero();
+    // Penalty contact, eqs. (33)-(35): active where the node touches or penetrates.
+    for (const auto& surface : problem_.colliders) {
+      const SurfaceProjection p = surface->project(node.position);
+      if (p.gap > 0.0) continue;
+      ++active_contacts_;
+      fc -= k_contact_ * p.gap * p.normal;
+      Kn.topLeftCorner<3, 3>() +=
+          k_contact_ * (p.normal * p.normal.transpose() + p.gap * p.normal_gradient);
+    }
+    for (int a = 0; a < 5; ++a) {
+      const int ra = dof_[5 * v + a];
+      if (ra < 0) continue;
+      F0[ra] = load[a];
+      R[ra] += lambda * load[a] + (a < 3 ? fc[a] : 0.0);
+      if (!K) continue;
+      for (int b = 0; b < 5; ++b) {
+        const int cb = dof_[5 * v + b];
+        if (cb >= 0) trip.emplace_back(ra, cb, Kn(a, b));
+      }
+    }
+  }
+  if (K) {
+    K->resize(num_free_, num_free_);
+    K->setFromTriplets(trip.begin(), trip.end());
+  }
+}
+
+void ShellModel::increment(const Eigen::VectorXd& dq) {
+  for (std::size_t v = 0; v < nodes_.size(); ++v) {
+    double u[5];
+    for (int k = 0; k < 5; ++k) {
+      const int d = dof_[5 * v + k];
+      u[k] = d < 0 ? 0.0 : dq[d];
+    }
+    nodes_[v].position += Eigen::Vector3d(u[0], u[1], u[2]);
+    nodes_[v].frame.rotate(Eigen::Vector2d(u[3], u[4]));
+  }
+}
+
+std::vector<ContactReaction> ShellModel::reactions() const {
+  std::vector<ContactReaction> out;
+  for (std::size_t v = 0; v < nodes_.size(); ++v)
+    for (std::size_t s = 0; s < problem_.colliders.size(); ++s) {
+      const SurfaceProjection p = problem_.colliders[s]->project(nodes_[v].position);
+      if (p.gap > 0.0) continue;
+      const Eigen::Vector3d f = -k_contact_ * p.gap * p.normal;
+      if (f.norm() > 0.0) out.push_back({static_cast<int>(v), static_cast<int>(s), f});
+    }
+  return out;
+}
+
+}  // namespace chs

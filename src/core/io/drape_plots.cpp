@@ -1,0 +1,98 @@
+#include "cloth_hair_sim/core/io/drape_plots.h"
+
+#include <algorithm>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "cloth_hair_sim/core/io/gnuplot.h"
+
+namespace chs {
+
+namespace {
+
+// pm3d draws a quad from two scans of two points: (p0 p1) then (p3 p2).
+void appendQuad(std::ostringstream& s, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  s << a.x() << ' ' << a.y() << ' ' << a.z() << '\n'
+    << b.x() << ' ' << b.y() << ' ' << b.z() << "\n\n"
+    << d.x() << ' ' << d.y() << ' ' << d.z() << '\n'
+    << c.x() << ' ' << c.y() << ' ' << c.z() << "\n\n\n";
+}
+
+}  // namespace
+
+void plotConvergence(const DrapeResult& result, const std::string& png_path,
+                     const std::string& title, double tolerance) {
+  if (result.history.empty())
+    throw std::runtime_error("convergence plot: the solve recorded no iterations");
+  std::ostringstream s;
+  s << std::setprecision(10);
+  s << "$hist << EOD\n";
+  for (std::size_t i = 0; i < result.history.size(); ++i) {
+    const auto& e = result.history[i];
+    s << i + 1 << ' ' << std::max(e.residual, 1e-300) << ' ' << e.load_factor << ' '
+      << e.load_step << '\n';
+  }
+  s << "EOD\n"
+    << "set terminal pngcairo size 1000,600 enhanced font 'DejaVu Sans,11'\n"
+    << "set output " << gnuplotQuote(png_path) << "\n"
+    << "set title " << gnuplotQuote(title) << " noenhanced\n"
+    << "set xlabel 'cumulative iteration'\n"
+    << "set ylabel 'relative residual'\nset logscale y\nset format y '10^{%L}'\n"
+    << "set y2label 'load factor {/Symbol l}'\nset y2tics\nset ytics nomirror\n"
+    << "set y2range [0:*]\nset grid\nset key top right box opaque\n";
+  if (tolerance > 0.0)
+    s << "set arrow from graph 0, first " << tolerance << " to graph 1, first " << tolerance
+      << " nohead dt 2 lc rgb 'gray40'\n"
+      << "set label 'tolerance' at graph 0.01, first " << tolerance * 1.8 << " tc rgb 'gray40'\n";
+  s << "plot $hist using 1:2 with linespoints pt 7 ps 0.5 lc rgb '#1f77b4' title 'residual', "
+    << "$hist using 1:3 axes x1y2 with steps lw 2 lc rgb '#d62728' title 'load factor'\n";
+  runGnuplot(s.str());
+}
+
+void plotDrape(const QuadMesh& mesh, const std::vector<Eigen::Vector3d>& positions,
+               const std::vector<ColliderSpec>& colliders, const std::string& png_path,
+               const std::string& title) {
+  if (positions.size() != mesh.vertices.size() || positions.empty())
+    throw std::runtime_error("drape picture: positions do not match the mesh");
+  Eigen::Vector3d lo = positions.front(), hi = lo;
+  for (const auto& p : positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double extent = std::max((hi - lo).head<2>().maxCoeff(), 1e-12);
+  const double z_floor = lo.z() - 0.1 * extent;
+
+  std::ostringstream s;
+  s << std::setprecision(8);
+  s << "$cloth << EOD\n";
+  for (const auto& q : mesh.quads)
+    appendQuad(s, positions[q[0]], positions[q[1]], positions[q[2]], positions[q[3]]);
+  s << "EOD\n$solid << EOD\n";
+  bool any_solid = false;
+  for (const auto& c : colliders)
+    for (const auto& q : sketchCollider(c, z_floor, 0.6 * extent)) {
+      appendQuad(s, q[0], q[1], q[2], q[3]);
+      any_solid = true;
+    }
+  s << "EOD\n";
+  const double zspan = std::max(hi.z() - lo.z(), 1e-9 * extent);
+  s << "set terminal pngcairo size 1400,700 enhanced font 'DejaVu Sans,11'\n"
+    << "set output " << gnuplotQuote(png_path) << "\n"
+    << "set multiplot layout 1,2 title " << gnuplotQuote(title) << " noenhanced\n"
+    << "set palette defined (0 '#30123b', 0.25 '#4686fb', 0.5 '#1ae4b6', 0.75 '#faba39', "
+       "1 '#7a0403')\n"
+    << "set cbrange [" << lo.z() << ":" << lo.z() + zspan << "]\nset cblabel 'z'\n"
+    << "set pm3d depthorder border lc rgb '#303030' lw 0.4\n"
+    << "set xlabel 'x'\nset ylabel 'y'\nset zlabel 'z'\nset tics font ',9'\n"
+    << "set view 58, 35\nset view equal xyz\nset xyplane 0\n"
+    << "set zrange [" << z_floor << ":*]\n"
+    << "set title '3D view'\n"
+    << "splot $cloth with pm3d notitle";
+  if (any_solid) s << ", $solid with pm3d fc rgb '#b8b8b8' notitle";
+  s << "\nset title 'top view'\nset view map\nset view equal xy\nunset zlabel\n"
+    << "splot $cloth with pm3d notitle";
+  if (any_solid) s << ", $solid with pm3d fc rgb '#b8b8b8' notitle";
+  s << "\nunset multiplot\n";
+  runGnuplot(s.str());
+}
+
+}  // namespace chs

@@ -1,0 +1,186 @@
+#include "cloth_hair_sim/core/particle/particle_dynamics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/particle/particle_contact.h"
+
+namespace chs {
+
+namespace {
+using Vec3 = Eigen::Vector3d;
+
+const DrapeProblem& validated(const DrapeProblem& problem, const ParticleDynamicsSettings& s) {
+  problem.validate();
+  if (!(problem.material.areal_density > 0.0))
+    throw InputError("particle dynamics: the areal density must be positive (nodes need mass)");
+  if (!std::isfinite(s.damping) || s.damping < 0.0)
+    throw InputError("particle dynamics: damping must be >= 0");
+  if (!(s.restitution >= 0.0 && s.restitution <= 1.0))
+    throw InputError("particle dynamics: restitution must lie in [0, 1]");
+  if (!std::isfinite(s.contact_tolerance) || s.contact_tolerance < 0.0)
+    throw InputError("particle dynamics: contact tolerance must be >= 0");
+  return problem;
+}
+}  // namespace
+
+ParticleDynamics::ParticleDynamics(const DrapeProblem& problem,
+                                   const ParticleDynamicsSettings& settings)
+    : settings_(settings),
+      network_(validated(problem, settings).mesh, problem.material, problem.bc.clamped,
+               settings.network),
+      loads_(problem, network_),
+      surfaces_(problem.colliders),
+      x_(problem.mesh.vertices) {
+  const int n = numVertices();
+  contact_tolerance_ = settings.contact_tolerance > 0.0 ? settings.contact_tolerance
+                                                        : 1e-6 * network_.referenceEdgeLength();
+  v_.assign(n, Vec3::Zero());
+  mask_.assign(n, Vec3::Ones());
+  for (const auto& f : problem.bc.fixed_components) mask_[f.vertex][f.axis] = 0.0;
+  pinned_.assign(n, 0);
+  target_ = x_;
+  for (int v : problem.bc.clamped) pinned_[v] = 1;
+  for (int v : problem.bc.pinned) pinned_[v] = 1;
+}
+
+void ParticleDynamics::checkVertex(int vertex) const {
+  if (vertex < 0 || vertex >= numVertices())
+    throw InputError("particle dynamics: vertex " + std::to_string(vertex) + " out of range (" +
+                     std::to_string(numVertices()) + " vertices)");
+}
+
+void ParticleDynamics::setPositions(const std::vector<Vec3>& x) {
+  if (x.size() != x_.size()) throw InputError("particle dynamics: position count mismatch");
+  x_ = x;
+}
+
+void ParticleDynamics::setVelocities(const std::vector<Vec3>& v) {
+  if (v.size() != v_.size()) throw InputError("particle dynamics: velocity count mismatch");
+  v_ = v;
+}
+
+void ParticleDynamics::pin(int vertex) {
+  pin(vertex, x_.at(vertex));
+}
+
+void ParticleDynamics::pin(int vertex, const Vec3& target) {
+  checkVertex(vertex);
+  if (!target.allFinite()) throw InputError("particle dynamics: pin target is not finite");
+  pinned_[vertex] = 1;
+  target_[vertex] = target;
+}
+
+void ParticleDynamics::unpin(int vertex) {
+  checkVertex(vertex);
+  pinned_[vertex] = 0;
+}
+
+void ParticleDynamics::acceleration(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                                    std::vector<Vec3>& a,
+                                    std::vector<ContactReaction>* reactions) const {
+  std::fill(a.begin(), a.end(), Vec3::Zero());
+  network_.addForces(x, a);
+  loads_.addForces(x, 1.0, 1.0, a);
+  const auto& m = loads_.masses();
+  for (int i = 0; i < numVertices(); ++i) {
+    a[i] -= settings_.damping * m[i] * v[i];
+    Vec3 normal;
+    const int s = touchingSurface(surfaces_, x[i], contact_tolerance_, &normal);
+    if (s >= 0) {
+      const Vec3 r = cancelInwardComponent(normal, a[i]);
+      if (reactions && r.squaredNorm() > 0.0) reactions->push_back({i, s, r});
+    }
+    a[i] = pinned_[i] ? Vec3::Zero() : Vec3(a[i].cwiseProduct(mask_[i]) / m[i]);
+  }
+}
+
+void ParticleDynamics::step(double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw InputError("particle dynamics: time step must be positive");
+  const int n = numVertices();
+  // A pinned vertex travels to its target at constant velocity during the step.
+  std::vector<Vec3> pin_velocity(n, Vec3::Zero());
+  for (int i = 0; i < n; ++i)
+    if (pinned_[i]) pin_velocity[i] = (target_[i] - x_[i]) / dt;
+  auto velocity = [&](const std::vector<Vec3>& v, int i) {
+    return pinned_[i] ? pin_velocity[i] : Vec3(v[i].cwiseProduct(mask_[i]));
+  };
+
+  // Classical RK4 on (x, v), seed 000 eq. (50).
+  std::vector<Vec3> xs(n), vs(n), a1(n), a2(n), a3(n), a4(n), v1(n), v2(n), v3(n), v4(n);
+  for (int i = 0; i < n; ++i) v1[i] = velocity(v_, i);
+  acceleration(x_, v1, a1, nullptr);
+  for (int i = 0; i < n; ++i) {
+    xs[i] = x_[i] + 0.5 * dt * v1[i];
+    vs[i] = v_[i] + 0.5 * dt * a1[i];
+    v2[i] = velocity(vs, i);
+  }
+  acceleration(xs, v2, a2, nullptr);
+  for (int i = 0; i < n; ++i) {
+    xs[i] = x_[i] + 0.5 * dt * v2[i];
+    vs[i] = v_[i] + 0.5 * dt * a2[i];
+    v3[i] = velocity(vs, i);
+  }
+  acceleration(xs, v3, a3, nullptr);
+  for (int i = 0; i < n; ++i) {
+    xs[i] = x_[i] + dt * v3[i];
+    vs[i] = v_[i] + dt * a3[i];
+    v4[i] = velocity(vs, i);
+  }
+  acceleration(xs, v4, a4, nullptr);
+  for (int i = 0; i < n; ++i) {
+    x_[i] += dt / 6.0 * (v1[i] + 2.0 * v2[i] + 2.0 * v3[i] + v4[i]);
+    v_[i] += dt / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]);
+    if (pinned_[i]) {
+      x_[i] = target_[i];
+      v_[i] = pin_velocity[i];
+      continue;
+    }
+    v_[i] = v_[i].cwiseProduct(mask_[i]);
+    // Impact: back onto the surface, inward normal velocity reversed by the restitution.
+    if (projectOutOfSurfaces(surfaces_, x_[i])) {
+      Vec3 normal;
+      if (touchingSurface(surfaces_, x_[i], contact_tolerance_, &normal) >= 0) {
+        const double vn = v_[i].dot(normal);
+        if (vn < 0.0) v_[i] -= (1.0 + settings_.restitution) * vn * normal;
+      }
+    }
+  }
+  time_ += dt;
+}
+
+double ParticleDynamics::kineticEnergy() const {
+  double e = 0.0;
+  for (int i = 0; i < numVertices(); ++i) e += 0.5 * masses()[i] * v_[i].squaredNorm();
+  return e;
+}
+
+Vec3 ParticleDynamics::centreOfMass() const {
+  Vec3 c = Vec3::Zero();
+  double m = 0.0;
+  for (int i = 0; i < numVertices(); ++i) {
+    c += masses()[i] * x_[i];
+    m += masses()[i];
+  }
+  return c / m;
+}
+
+double ParticleDynamics::stableTimeStep() const {
+  const auto bound = network_.stiffnessBound();
+  double w2 = 0.0;
+  for (int i = 0; i < numVertices(); ++i) w2 = std::max(w2, bound[i] / masses()[i]);
+  return w2 > 0.0 ? 2.0 / std::sqrt(w2) : std::numeric_limits<double>::infinity();
+}
+
+std::vector<ContactReaction> ParticleDynamics::contactReactions() const {
+  std::vector<Vec3> a(numVertices());
+  std::vector<ContactReaction> reactions;
+  acceleration(x_, v_, a, &reactions);
+  return reactions;
+}
+
+}  // namespace chs

@@ -1,0 +1,153 @@
+// drape: solves the static drape of a scene file and writes the draped mesh, a JSON report and
+// pictures. Exit status: 0 converged, 2 not converged (results of the last state still
+// written), 1 bad input or any other error (message on stderr).
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
+#include "cloth_hair_sim/core/io/drape_plots.h"
+#include "cloth_hair_sim/core/io/drape_report.h"
+#include "cloth_hair_sim/core/io/mesh_writer.h"
+#include "cloth_hair_sim/core/io/scene.h"
+
+namespace {
+
+constexpr int kConverged = 0, kBadInput = 1, kNotConverged = 2;
+
+struct Options {
+  std::string scene;
+  std::optional<std::string> out;
+  std::optional<std::string> method;
+  bool quiet = false;
+};
+
+const char* kUsage =
+    "usage: drape SCENE.yaml [--out DIR] [--method fem_shell|particle] [--quiet]\n";
+
+Options parseArgs(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw chs::InputError(a + " needs a value\n" + kUsage);
+      return argv[++i];
+    };
+    if (a == "--out") o.out = value();
+    else if (a == "--method") o.method = value();
+    else if (a == "--quiet") o.quiet = true;
+    else if (a == "--help" || a == "-h") { std::cout << kUsage; std::exit(0); }
+    else if (!a.empty() && a[0] == '-') throw chs::InputError("unknown option " + a + "\n" + kUsage);
+    else if (o.scene.empty()) o.scene = a;
+    else throw chs::InputError("more than one scene file given (" + o.scene + ", " + a + ")\n" + kUsage);
+  }
+  if (o.scene.empty()) throw chs::InputError(std::string("no scene file given\n") + kUsage);
+  return o;
+}
+
+chs::DrapeResult solve(const chs::Scene& scene, const chs::ProgressCallback& progress) {
+  switch (scene.method) {
+    case chs::DrapeMethod::kFemShell:
+      return chs::solveFemShell(scene.problem, scene.fem_shell, progress);
+    case chs::DrapeMethod::kParticle:
+      break;
+  }
+  throw chs::InputError("method particle: the particle solver is not part of this build yet");
+}
+
+int run(int argc, char** argv) {
+  const Options opt = parseArgs(argc, argv);
+  chs::Scene scene = chs::loadScene(opt.scene);
+  if (opt.method) scene.method = chs::parseMethod(*opt.method);
+  const std::string method = chs::methodName(scene.method);
+  const std::filesystem::path dir = opt.out ? *opt.out : scene.output.directory;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw chs::InputError(dir.string() + ": cannot create output directory: " + ec.message());
+
+  if (!opt.quiet)
+    std::cout << "drape: scene " << scene.name << ", method " << method << ", "
+              << scene.problem.mesh.numVertices() << " vertices, "
+              << scene.problem.mesh.numQuads() << " quads, material " << scene.material_name
+              << std::endl;
+  chs::ProgressCallback progress;
+  if (!opt.quiet)
+    progress = [](const chs::ProgressEvent& e) {
+      std::printf("step %4d  load %.6f  iter %3d  residual %.3e  contacts %d\n", e.load_step,
+                  e.load_factor, e.iteration, e.residual, e.active_contacts);
+      std::fflush(stdout);
+    };
+  const auto start = std::chrono::steady_clock::now();
+  chs::DrapeResult result = solve(scene, progress);
+  if (result.wall_time_s <= 0.0)
+    result.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::vector<Eigen::Vector3d> positions =
+      result.positions.size() == scene.problem.mesh.vertices.size() ? result.positions
+                                                                    : scene.problem.mesh.vertices;
+
+  chs::writeObj((dir / scene.output.obj).string(), scene.problem.mesh, positions);
+  chs::writePly((dir / scene.output.ply).string(), scene.problem.mesh, positions);
+
+  chs::ReportContext context;
+  context.scene_name = scene.name;
+  context.scene_file = scene.file;
+  context.method = method;
+  if (scene.method == chs::DrapeMethod::kFemShell)
+    context.settings = chs::settingsList(scene.fem_shell);
+  else
+    context.settings.assign(scene.particle.begin(), scene.particle.end());
+  context.material = chs::materialList(scene.problem.material);
+  for (const auto& c : scene.problem.colliders) context.colliders.push_back(c->describe());
+  context.vertices = scene.problem.mesh.numVertices();
+  context.quads = scene.problem.mesh.numQuads();
+  if (result.positions.size() != scene.problem.mesh.vertices.size())
+    context.notes.push_back("the solver returned no positions: meshes show the reference state");
+
+  const std::string title = scene.name + " (" + method + ")";
+  auto picture = [&](const std::string& what, const auto& draw) {
+    try {
+      draw();
+    } catch (const std::exception& e) {
+      std::cerr << "drape: warning: no " << what << ": " << e.what() << std::endl;
+      context.notes.push_back("no " + what + ": " + e.what());
+    }
+  };
+  picture("convergence plot", [&] {
+    chs::plotConvergence(result, (dir / scene.output.convergence).string(), title,
+                         scene.method == chs::DrapeMethod::kFemShell ? scene.fem_shell.tolerance
+                                                                     : 0.0);
+  });
+  picture("drape picture", [&] {
+    chs::plotDrape(scene.problem.mesh, positions, scene.colliders,
+                   (dir / scene.output.picture).string(), title);
+  });
+  chs::writeDrapeReport((dir / scene.output.report).string(), result, context);
+
+  if (!opt.quiet)
+    std::cout << "drape: " << (result.converged ? "converged" : "NOT converged") << " after "
+              << result.load_steps << " load steps, " << result.iterations << " iterations, "
+              << result.wall_time_s << " s: " << result.status << "\ndrape: results in "
+              << dir.string() << std::endl;
+  if (!result.converged)
+    std::cerr << "drape: not converged: " << result.status << std::endl;
+  return result.converged ? kConverged : kNotConverged;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const chs::InputError& e) {
+    std::cerr << "drape: bad input: " << e.what() << std::endl;
+  } catch (const std::exception& e) {
+    std::cerr << "drape: error: " << e.what() << std::endl;
+  }
+  return kBadInput;
+}

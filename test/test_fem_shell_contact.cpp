@@ -1,0 +1,133 @@
+// FEM shell with penalty contact (seed 000 sections 2.2.2 and 4.3): the overhanging beam against
+// small-deflection theory, and Newton's quadratic convergence.
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
+
+namespace chs {
+namespace {
+
+// L = 6 cm, a = 1.5 cm past the edge, EA = 2809 gf, EI = 0.386 gf cm^2, w = 0.0255 gf/cm,
+// 24 elements; units gf and cm (g = 1).
+constexpr double kL = 6.0, kA = 1.5, kEA = 2809.0, kEI = 0.386, kW = 0.0255;
+
+DrapeProblem overhangingBeam(int n) {
+  DrapeProblem p;
+  for (int j = 0; j <= 1; ++j)
+    for (int i = 0; i <= n; ++i) p.mesh.vertices.emplace_back(kL * i / n, j - 0.5, 0.0);
+  for (int i = 0; i < n; ++i) p.mesh.quads.push_back({i, i + 1, n + 2 + i, n + 1 + i});
+  const double h = std::sqrt(12.0 * kEI / kEA);  // width 1 cm: EA = E h, EI = E h^3 / 12
+  p.material.young = kEA / h;
+  p.material.poisson = 0.0;
+  p.material.thickness = h;
+  p.material.areal_density = kW;  // per cm^2 of a 1 cm wide strip
+  p.gravity = Eigen::Vector3d(0, 0, -1);
+  // Frictionless table top at z = 0 whose edge is a = 1.5 cm short of the tip, rounded with
+  // 0.1 mm, a twenty-fifth of an element.
+  p.colliders.push_back(std::make_shared<BoxSurface>(
+      Eigen::Vector3d(-1, -2, -1), Eigen::Vector3d(kL - kA, 2, 0), 0.01));
+  // Nothing balances the small horizontal part of the edge reaction on a frictionless table
+  // (benchmarks.md): hold one end in x and y, and the other root node in x.
+  p.bc.fixed_components = {{0, 0}, {0, 1}, {n + 1, 0}};
+  return p;
+}
+
+struct OverhangFigures {
+  double p, dy, Rb, Rc, Rb_from_reactions;
+};
+
+// Lift-off length p and reaction R_b from the shape of the free span B-C, which small-deflection
+// theory gives exactly: g(s) = (R_b s^3/6 - w s^4/24)/EI, s = x - x_B (zero deflection, slope and
+// moment at B). Fitting x_B and R_b to the nodal gaps resolves B inside an element, whereas the
+// nodal reaction at the last contact node lumps R_b with the tributary weight of its elements.
+OverhangFigures extract(const DrapeResult& r, int n) {
+  const double le = kL / n, xc = kL - kA;
+  const int edge = static_cast<int>(std::lround(xc / le));
+  auto gap = [&](int i) { return 0.5 * (r.positions[i].z() + r.positions[n + 1 + i].z()); };
+  OverhangFigures f{};
+  double best = HUGE_VAL;
+  for (double xb = 0.5 * xc; xb < xc - le; xb += 1e-4) {
+    // Linear least squares for R_b at this x_B over the nodes in (x_B, x_C).
+    double sxx = 0, sxy = 0, sr = 0;
+    std::vector<std::pair<double, double>> pts;
+    for (int i = 0; i < edge; ++i) {
+      const double x = r.positions[i].x(), s = x - xb;
+      if (s <= 0) continue;
+      const double basis = s * s * s / 6.0 / kEI, rest = -kW * s * s * s * s / 24.0 / kEI;
+      pts.push_back({basis, gap(i) - rest});
+      sxx += basis * basis;
+      sxy += basis * (gap(i) - rest);
+    }
+    if (pts.size() < 3) continue;
+    const double Rb = sxy / sxx;
+    for (auto& [b, y] : pts) sr += (y - Rb * b) * (y - Rb * b);
+    // Nodes before x_B must lie on the table.
+    for (int i = 0; i < edge; ++i)
+      if (r.positions[i].x() <= xb) sr += gap(i) * gap(i);
+    if (sr < best) best = sr, f.Rb = Rb, f.p = xc - xb;
+  }
+  f.dy = -gap(n);
+  double flat = 0.0;
+  for (const auto& c : r.reactions) {
+    const int i = c.vertex % (n + 1);
+    if (i == edge)
+      f.Rc += c.force.z();
+    else if (i < edge)
+      flat += c.force.z();
+  }
+  f.Rb_from_reactions = flat - kW * (xc - f.p);
+  return f;
+}
+
+TEST(FemShellContact, OverhangingBeamMatchesSmallDeflectionTheory) {
+  const int n = 24;
+  const DrapeResult r = solveFemShell(overhangingBeam(n), FemShellSettings());
+  ASSERT_TRUE(r.converged) << r.status;
+  const OverhangFigures f = extract(r, n);
+  // Small-deflection theory (docs/VALIDATION.md derives it).
+  const double p = std::sqrt(2.0) * kA, Rb = kW * p / 4.0, Rc = kW * (kA + 0.75 * p),
+               dy = (std::sqrt(2.0) / 12.0 + 0.125) * kW * std::pow(kA, 4) / kEI;
+  const double ep = std::abs(f.p - p) / p, edy = std::abs(f.dy - dy) / dy,
+               eRb = std::abs(f.Rb - Rb) / Rb, eRc = std::abs(f.Rc - Rc) / Rc;
+  std::printf("overhanging beam, %d elements (%d steps, %d iterations)\n", n, r.load_steps,
+              r.iterations);
+  std::printf("          p [cm]   dy [cm]   R_b [gf]  R_c [gf]\n");
+  std::printf("theory    %.4f   %.5f   %.5f   %.5f\n", p, dy, Rb, Rc);
+  std::printf("FEM       %.4f   %.5f   %.5f   %.5f\n", f.p, f.dy, f.Rb, f.Rc);
+  std::printf("error %%   %.2f     %.2f      %.2f      %.2f\n", 100 * ep, 100 * edy, 100 * eRb,
+              100 * eRc);
+  std::printf("R_b from the contact reactions (flat sum - w (L - a - p)): %.5f gf (%.2f %%)\n",
+              f.Rb_from_reactions, 100 * std::abs(f.Rb_from_reactions - Rb) / Rb);
+  EXPECT_LT(ep, 0.03);
+  EXPECT_LT(edy, 0.03);
+  EXPECT_LT(eRb, 0.03);
+  EXPECT_LT(eRc, 0.03);
+}
+
+// Near the solution Newton's residual falls quadratically: r_{k+1} <= C r_k^2.
+TEST(FemShellContact, NewtonConvergesQuadratically) {
+  FemShellSettings s;
+  s.tolerance = 1e-11;
+  const DrapeResult r = solveFemShell(overhangingBeam(24), s);
+  ASSERT_TRUE(r.converged) << r.status;
+  std::vector<double> last;
+  for (const auto& e : r.history)
+    if (e.load_step == r.history.back().load_step) last.push_back(e.residual);
+  std::printf("residuals of the last load step:");
+  for (double x : last) std::printf(" %.3e", x);
+  std::printf("\n");
+  int quadratic = 0;
+  for (std::size_t k = 1; k < last.size(); ++k) {
+    if (last[k - 1] > 1e-2 || last[k] < 1e-13) continue;
+    const double rate = std::log(last[k]) / std::log(last[k - 1]);
+    std::printf("  log r_%zu / log r_%zu = %.2f\n", k, k - 1, rate);
+    if (rate > 1.8) ++quadratic;
+  }
+  EXPECT_GE(quadratic, 1);
+}
+
+}  // namespace
+}  // namespace chs

@@ -1,0 +1,244 @@
+// Mesh files (assimp round trip, bad files), the scene parser and the report writer.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/io/drape_report.h"
+#include "cloth_hair_sim/core/io/material_presets.h"
+#include "cloth_hair_sim/core/io/mesh_reader.h"
+#include "cloth_hair_sim/core/io/mesh_writer.h"
+#include "cloth_hair_sim/core/io/scene.h"
+#include "cloth_hair_sim/core/mesh/grid_generators.h"
+
+namespace chs {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path tempDir() {
+  const fs::path dir = fs::temp_directory_path() / ("chs_test_io_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+// Expects fn to throw InputError mentioning every fragment.
+template <typename Fn>
+void expectInputError(Fn fn, std::initializer_list<std::string> fragments) {
+  try {
+    fn();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    std::cout << "  rejected: " << msg << "\n";
+    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << msg;
+  }
+}
+
+// Same quads, corner by corner; assimp holds positions as float.
+void expectSameMesh(const QuadMesh& a, const QuadMesh& b, double scale = 1.0) {
+  ASSERT_EQ(a.numVertices(), b.numVertices());
+  ASSERT_EQ(a.numQuads(), b.numQuads());
+  for (int q = 0; q < a.numQuads(); ++q)
+    for (int k = 0; k < 4; ++k)
+      EXPECT_LT((scale * a.vertices[a.quads[q][k]] - b.vertices[b.quads[q][k]]).norm(), 1e-6 * scale)
+          << "quad " << q << " corner " << k;
+}
+
+TEST(MeshIo, ObjAndPlyRoundTripKeepQuads) {
+  const fs::path dir = tempDir();
+  QuadMesh mesh = makeDiscMesh(0.127, 12, {0.1, 0.2, 0.3});
+  std::vector<Eigen::Vector3d> deformed = mesh.vertices;
+  for (auto& p : deformed) p.z() -= 0.5 * p.head<2>().squaredNorm();  // a bowl
+  QuadMesh expected = mesh;
+  expected.vertices = deformed;
+  for (const char* ext : {".obj", ".ply"}) {
+    const std::string path = (dir / (std::string("disc") + ext)).string();
+    if (std::string(ext) == ".obj")
+      writeObj(path, mesh, deformed);
+    else
+      writePly(path, mesh, deformed);
+    const QuadMesh back = readQuadMesh(path);
+    std::cout << "  " << ext << ": " << back.numVertices() << " vertices, " << back.numQuads()
+              << " quads\n";
+    expectSameMesh(expected, back);
+    expectSameMesh(expected, readQuadMesh(path, 100.0), 100.0);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(MeshIo, BadFiles) {
+  const fs::path dir = tempDir();
+  expectInputError([&] { readQuadMesh((dir / "missing.obj").string()); }, {"missing.obj", "no such"});
+  writeText(dir / "garbage.ply", "ply\nthis is not\x01\x02 a ply file at all\n");
+  expectInputError([&] { readQuadMesh((dir / "garbage.ply").string()); }, {"garbage.ply"});
+  writeText(dir / "garbage.obj", "\x7f\x45\x4c\x46 binary junk \x01\x02\x03\n");
+  expectInputError([&] { readQuadMesh((dir / "garbage.obj").string()); }, {"garbage.obj"});
+  writeText(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  expectInputError([&] { readQuadMesh((dir / "tri.obj").string()); }, {"tri.obj", "3 corners", "quads"});
+  writeText(dir / "flipped.obj",
+            "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 1 2 5 4\nf 2 5 6 3\n");
+  expectInputError([&] { readQuadMesh((dir / "flipped.obj").string()); }, {"flipped.obj", "inverted"});
+  expectInputError([&] { readQuadMesh((dir / "tri.obj").string(), -1.0); }, {"scale"});
+  fs::remove_all(dir);
+}
+
+const char* kGoodScene = R"(
+name: test_scene
+method: fem_shell
+gravity: [0, 0, -9.80665]
+garment:
+  rectangle: {size: [0.2, 0.1], cells: [4, 2], centre: [0, 0, 0.001]}
+material: {preset: cotton_eischen}
+colliders:
+  - table: {top_centre: [0, 0, 0], size: [0.08, 0.08], depth: 0.2}
+  - sphere: {centre: [0, 0, -1], radius: 0.5}
+  - plane: {point: [0, 0, -0.5], normal: [0, 0, 1]}
+  - pedestal: {top_centre: [0.3, 0, 0], radius: 0.05}
+boundary:
+  clamped: [0, {plane: {axis: x, value: 0.1}}]
+  fixed: [{vertices: {nearest: [0, 0, 0]}, axes: [x, y]}]
+fem_shell: {tolerance: 1.0e-6, max_load_steps: 50, arc_length: false}
+output: {directory: somewhere}
+)";
+
+TEST(Scene, GoodScene) {
+  const Scene s = parseScene(kGoodScene, ".", "fallback");
+  EXPECT_EQ(s.name, "test_scene");
+  EXPECT_EQ(s.method, DrapeMethod::kFemShell);
+  EXPECT_EQ(s.problem.mesh.numVertices(), 15);
+  EXPECT_EQ(s.problem.colliders.size(), 4u);
+  EXPECT_EQ(s.colliders[0].type, ColliderSpec::Type::kBox);
+  EXPECT_EQ(s.problem.bc.clamped, (std::vector<int>{0, 4, 9, 14}));
+  ASSERT_EQ(s.problem.bc.fixed_components.size(), 2u);
+  EXPECT_EQ(s.problem.bc.fixed_components[0].vertex, 7);
+  EXPECT_DOUBLE_EQ(s.fem_shell.tolerance, 1e-6);
+  EXPECT_EQ(s.fem_shell.max_load_steps, 50);
+  EXPECT_FALSE(s.fem_shell.arc_length);
+  EXPECT_EQ(s.output.directory, "somewhere");
+  // Seed 000 section 4.4 cotton in SI.
+  const ShellMaterial& m = s.problem.material;
+  EXPECT_NEAR(m.young, 118.1176 * 9806.65, 1e-6);
+  EXPECT_NEAR(m.areal_density * 9.80665, 0.2384e-3 * 9806.65, 1e-12);
+  EXPECT_NEAR(m.bendingStiffness(), 1.725 * 9.80665e-3 * 1e-3, 0.002 * 1.725e-5);  // 1.725 gf mm
+}
+
+TEST(Scene, WoolPreset) {
+  const ShellMaterial m = *materialPreset("wool_suiting");
+  EXPECT_NEAR(m.bendingStiffness(), 0.1 * 9.80665e-6 / 1e-1, 1e-15);  // 0.1 gf cm^2/cm
+  EXPECT_NEAR(m.areal_density, 0.22, 1e-15);
+  std::cout << "  wool_suiting E = " << m.young << " Pa\n";
+}
+
+TEST(Scene, ShippedScenesParse) {
+  for (const auto& entry : fs::directory_iterator(fs::path(CHS_SOURCE_DIR) / "scenes")) {
+    if (entry.path().extension() != ".yaml") continue;
+    const Scene s = loadScene(entry.path().string());
+    std::cout << "  " << s.name << ": " << s.problem.mesh.numVertices() << " vertices, "
+              << s.problem.mesh.numQuads() << " quads, " << methodName(s.method) << "\n";
+    EXPECT_EQ(s.name, entry.path().stem().string());
+  }
+}
+
+// The good scene with one line replaced.
+std::string edited(const std::string& from, const std::string& to) {
+  std::string s = kGoodScene;
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+TEST(Scene, NonsenseMaterial) {
+  const std::string base = "material: {preset: cotton_eischen}";
+  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, young: 0}"), ".", "t"); },
+                   {"material.young", "positive"});
+  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, young: -3e5}"), ".", "t"); },
+                   {"material.young"});
+  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, poisson: 0.5}"), ".", "t"); },
+                   {"material.poisson", "[0, 0.5)"});
+  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, poisson: -0.1}"), ".", "t"); },
+                   {"material.poisson"});
+  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, thickness: 0}"), ".", "t"); },
+                   {"material.thickness"});
+  expectInputError(
+      [&] { parseScene(edited(base, "material: {preset: cotton_eischen, areal_density: -1}"), ".", "t"); },
+      {"material.areal_density", "negative"});
+  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, young: abc}"), ".", "t"); },
+                   {"material.young", "number"});
+  expectInputError([&] { parseScene(edited(base, "material: silk"), ".", "t"); },
+                   {"material", "silk", "cotton_eischen"});
+  expectInputError([&] { parseScene(edited(base, "material: {young: 1e6, poisson: 0.3}"), ".", "t"); },
+                   {"material.thickness", "missing"});
+}
+
+TEST(Scene, UnknownKeysAndBadValues) {
+  expectInputError([&] { parseScene(std::string(kGoodScene) + "colour: red\n", ".", "t"); },
+                   {"colour", "unknown key"});
+  expectInputError([&] { parseScene(edited("tolerance: 1.0e-6", "tolerence: 1.0e-6"), ".", "t"); },
+                   {"fem_shell.tolerence", "unknown key"});
+  expectInputError([&] { parseScene(edited("depth: 0.2", "depht: 0.2"), ".", "t"); },
+                   {"colliders[0].table.depht", "unknown key"});
+  expectInputError([&] { parseScene(edited("sphere:", "cone:"), ".", "t"); }, {"colliders[1].cone", "unknown collider"});
+  expectInputError([&] { parseScene(edited("method: fem_shell", "method: magic"), ".", "t"); },
+                   {"method", "magic"});
+  expectInputError([&] { parseScene(edited("cells: [4, 2]", "cells: [4, 0]"), ".", "t"); },
+                   {"garment.rectangle.cells"});
+  expectInputError([&] { parseScene(edited("clamped: [0,", "clamped: [99,"), ".", "t"); },
+                   {"boundary.clamped[0]", "99"});
+  expectInputError([&] { parseScene(edited("axes: [x, y]", "axes: [x, w]"), ".", "t"); },
+                   {"boundary.fixed[0].axes", "'w'"});
+  expectInputError([&] { parseScene(edited("max_load_steps: 50", "max_load_steps: 2.5"), ".", "t"); },
+                   {"fem_shell.max_load_steps", "integer"});
+  expectInputError([&] { parseScene(edited("radius: 0.5", "radius: -0.5"), ".", "t"); },
+                   {"colliders[1].sphere.radius", "positive"});
+  expectInputError([&] { parseScene("garment: [unclosed", ".", "t"); }, {"YAML"});
+  expectInputError([&] { parseScene("", ".", "t"); }, {"empty"});
+  expectInputError([&] { loadScene("/nonexistent/scene.yaml"); }, {"/nonexistent/scene.yaml", "no such"});
+}
+
+TEST(Scene, GarmentFile) {
+  const fs::path dir = tempDir();
+  writeObj((dir / "cloth.obj").string(), makeRectangleMesh(20, 20, 4, 4));  // in cm
+  writeText(dir / "scene.yaml",
+            "garment: {file: {path: cloth.obj, scale: 0.01, translate: [0, 0, 0.5]}}\n"
+            "material: wool_suiting\n");
+  const Scene s = loadScene((dir / "scene.yaml").string());
+  EXPECT_EQ(s.name, "scene");
+  EXPECT_EQ(s.problem.mesh.numQuads(), 16);
+  for (const auto& p : s.problem.mesh.vertices) {
+    EXPECT_LE(p.head<2>().cwiseAbs().maxCoeff(), 0.1 + 1e-12);
+    EXPECT_DOUBLE_EQ(p.z(), 0.5);
+  }
+  writeText(dir / "scene.yaml", "garment: {file: nothere.obj}\nmaterial: wool_suiting\n");
+  expectInputError([&] { loadScene((dir / "scene.yaml").string()); }, {"nothere.obj"});
+  fs::remove_all(dir);
+}
+
+TEST(Report, JsonHasResultAndReactions) {
+  DrapeResult r;
+  r.converged = false;
+  r.status = "diverged";
+  r.positions = {{0, 0, 0}, {1, 2, -3}};
+  r.history = {{1, 0.1, 1, 0.5, 0}, {1, 0.1, 2, std::nan(""), 3}};
+  r.reactions = {{0, 0, {0, 0, 1}}, {1, 0, {0, 0, 2}}, {1, 1, {1, 0, 0}}};
+  ReportContext c;
+  c.scene_name = "x";
+  c.method = "fem_shell";
+  c.settings = {{"tolerance", 1e-8}};
+  const auto j = nlohmann::json::parse(drapeReportJson(r, c));
+  EXPECT_FALSE(j["converged"].get<bool>());
+  EXPECT_EQ(j["residual_history"].size(), 2u);
+  EXPECT_TRUE(j["residual_history"][1]["residual"].is_null());  // NaN is not JSON
+  EXPECT_EQ(j["contact_reactions"]["total"], nlohmann::json({1.0, 0.0, 3.0}));
+  EXPECT_EQ(j["contact_reactions"]["per_surface"].size(), 2u);
+  EXPECT_EQ(j["draped_bounding_box"]["min"], nlohmann::json({0.0, 0.0, -3.0}));
+}
+
+}  // namespace
+}  // namespace chs
