@@ -1,2 +1,0 @@
-# Empty custom commands generated dependencies file for _catkin_empty_exported_target.
-# This may be replaced when dependencies are built.

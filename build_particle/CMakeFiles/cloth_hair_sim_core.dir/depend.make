@@ -1,2 +1,0 @@
-# Empty dependencies file for cloth_hair_sim_core.
-# This may be replaced when dependencies are built.
