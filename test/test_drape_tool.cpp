@@ -12,13 +12,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct ToolRun {
   int status = -1;
   std::string output;  // stdout and stderr
 };
 
-Run drape(const std::string& args) {
-  Run r;
+ToolRun drape(const std::string& args) {
+  ToolRun r;
   const std::string cmd = std::string("'") + CHS_DRAPE_EXE + "' " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;
@@ -37,7 +37,7 @@ fs::path tempDir() {
 }
 
 TEST(DrapeTool, MissingSceneFile) {
-  const Run r = drape("/nonexistent/scene.yaml --quiet");
+  const ToolRun r = drape("/nonexistent/scene.yaml --quiet");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("/nonexistent/scene.yaml"), std::string::npos);
   EXPECT_NE(r.output.find("no such scene file"), std::string::npos);
@@ -47,17 +47,18 @@ TEST(DrapeTool, BadUsage) {
   EXPECT_EQ(drape("").status, 1);
   EXPECT_EQ(drape("--frobnicate x.yaml").status, 1);
   const std::string scene = std::string(CHS_SOURCE_DIR) + "/scenes/tablecloth_fem.yaml";
-  const Run r = drape("'" + scene + "' --method magic --out " + (tempDir() / "m").string());
+  const ToolRun r = drape("'" + scene + "' --method magic --out " + (tempDir() / "m").string());
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("magic"), std::string::npos);
+  fs::remove_all(tempDir());
 }
 
 TEST(DrapeTool, BadMaterial) {
   const fs::path dir = tempDir();
-  std::ofstream(dir / "bad.yaml")
-      << "garment: {rectangle: {size: [0.2, 0.2], cells: [4, 4]}}\n"
-         "material: {preset: cotton_eischen, poisson: 0.7}\n";
-  const Run r = drape("'" + (dir / "bad.yaml").string() + "' --out '" + (dir / "out").string() + "'");
+  std::ofstream(dir / "bad.yaml") << "garment: {rectangle: {size: [0.2, 0.2], cells: [4, 4]}}\n"
+                                     "material: {preset: cotton_eischen, poisson: 0.7}\n";
+  const ToolRun r =
+      drape("'" + (dir / "bad.yaml").string() + "' --out '" + (dir / "out").string() + "'");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("material.poisson"), std::string::npos);
   fs::remove_all(dir);

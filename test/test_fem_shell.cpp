@@ -120,7 +120,7 @@ std::pair<double, double> tipLoadedCantilever(int n) {
   std::printf("%d elements\nlambda_P  theta0(FE)  theta0(ref)  u/L(FE)  u/L(ref)  w/L(FE)  w/L(ref)\n", n);
   for (int lam = 1; lam <= 10; ++lam) {
     DrapeProblem p = cantileverStrip(n, 1.0, 1.0, 1.0, h);
-    for (int v : {n, 2 * n + 1}) p.bc.loads.push_back({v, Eigen::Vector3d(0, 0, -0.5 * lam * EI), {}});
+    for (int v : {n, 2 * n + 1}) p.bc.loads.push_back({v, Eigen::Vector3d(0, 0, -0.5 * lam * EI), Eigen::Vector3d::Zero()});
     const DrapeResult r = solveFemShell(p, FemShellSettings());
     EXPECT_TRUE(r.converged) << r.status;
     const Eigen::Vector3d tip = 0.5 * (r.positions[n] + r.positions[2 * n + 1]);
@@ -162,7 +162,7 @@ TEST(FemShellBeam, MomentLoadedCantileverConvergesToTheCircle) {
     for (double lm : {0.25, 0.5, 1.0, 1.5, 2.0}) {
       DrapeProblem p = cantileverStrip(n, 1.0, 1.0, 1.0, h);
       const double M = lm * M_PI * EI;
-      for (int v : {n, 2 * n + 1}) p.bc.loads.push_back({v, {}, Eigen::Vector3d(0, -0.5 * M, 0)});
+      for (int v : {n, 2 * n + 1}) p.bc.loads.push_back({v, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, -0.5 * M, 0)});
       const DrapeResult r = solveFemShell(p, FemShellSettings());
       ASSERT_TRUE(r.converged) << r.status;
       const Eigen::Vector3d tip = 0.5 * (r.positions[n] + r.positions[2 * n + 1]);

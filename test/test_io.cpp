@@ -26,7 +26,9 @@ fs::path tempDir() {
   return dir;
 }
 
-void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+void writeText(const fs::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
 
 // Expects fn to throw InputError mentioning every fragment.
 template <typename Fn>
@@ -47,7 +49,8 @@ void expectSameMesh(const QuadMesh& a, const QuadMesh& b, double scale = 1.0) {
   ASSERT_EQ(a.numQuads(), b.numQuads());
   for (int q = 0; q < a.numQuads(); ++q)
     for (int k = 0; k < 4; ++k)
-      EXPECT_LT((scale * a.vertices[a.quads[q][k]] - b.vertices[b.quads[q][k]]).norm(), 1e-6 * scale)
+      EXPECT_LT((scale * a.vertices[a.quads[q][k]] - b.vertices[b.quads[q][k]]).norm(),
+                1e-6 * scale)
           << "quad " << q << " corner " << k;
 }
 
@@ -75,16 +78,19 @@ TEST(MeshIo, ObjAndPlyRoundTripKeepQuads) {
 
 TEST(MeshIo, BadFiles) {
   const fs::path dir = tempDir();
-  expectInputError([&] { readQuadMesh((dir / "missing.obj").string()); }, {"missing.obj", "no such"});
+  expectInputError([&] { readQuadMesh((dir / "missing.obj").string()); },
+                   {"missing.obj", "no such"});
   writeText(dir / "garbage.ply", "ply\nthis is not\x01\x02 a ply file at all\n");
   expectInputError([&] { readQuadMesh((dir / "garbage.ply").string()); }, {"garbage.ply"});
   writeText(dir / "garbage.obj", "\x7f\x45\x4c\x46 binary junk \x01\x02\x03\n");
   expectInputError([&] { readQuadMesh((dir / "garbage.obj").string()); }, {"garbage.obj"});
   writeText(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  expectInputError([&] { readQuadMesh((dir / "tri.obj").string()); }, {"tri.obj", "3 corners", "quads"});
+  expectInputError([&] { readQuadMesh((dir / "tri.obj").string()); },
+                   {"tri.obj", "3 corners", "quads"});
   writeText(dir / "flipped.obj",
             "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 1 2 5 4\nf 2 5 6 3\n");
-  expectInputError([&] { readQuadMesh((dir / "flipped.obj").string()); }, {"flipped.obj", "inverted"});
+  expectInputError([&] { readQuadMesh((dir / "flipped.obj").string()); },
+                   {"flipped.obj", "inverted"});
   expectInputError([&] { readQuadMesh((dir / "tri.obj").string(), -1.0); }, {"scale"});
   fs::remove_all(dir);
 }
@@ -105,6 +111,7 @@ boundary:
   clamped: [0, {plane: {axis: x, value: 0.1}}]
   fixed: [{vertices: {nearest: [0, 0, 0]}, axes: [x, y]}]
 fem_shell: {tolerance: 1.0e-6, max_load_steps: 50, arc_length: false}
+particle: {momentum: 0.99, max_iterations: 1000, stretch_compression: 0.1}
 output: {directory: somewhere}
 )";
 
@@ -121,6 +128,9 @@ TEST(Scene, GoodScene) {
   EXPECT_DOUBLE_EQ(s.fem_shell.tolerance, 1e-6);
   EXPECT_EQ(s.fem_shell.max_load_steps, 50);
   EXPECT_FALSE(s.fem_shell.arc_length);
+  EXPECT_DOUBLE_EQ(s.particle.momentum, 0.99);
+  EXPECT_EQ(s.particle.max_iterations, 1000);
+  EXPECT_DOUBLE_EQ(s.particle.network.stretch_compression, 0.1);
   EXPECT_EQ(s.output.directory, "somewhere");
   // Seed 000 section 4.4 cotton in SI.
   const ShellMaterial& m = s.problem.material;
@@ -156,25 +166,42 @@ std::string edited(const std::string& from, const std::string& to) {
 
 TEST(Scene, NonsenseMaterial) {
   const std::string base = "material: {preset: cotton_eischen}";
-  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, young: 0}"), ".", "t"); },
-                   {"material.young", "positive"});
-  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, young: -3e5}"), ".", "t"); },
-                   {"material.young"});
-  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, poisson: 0.5}"), ".", "t"); },
-                   {"material.poisson", "[0, 0.5)"});
-  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, poisson: -0.1}"), ".", "t"); },
-                   {"material.poisson"});
-  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, thickness: 0}"), ".", "t"); },
-                   {"material.thickness"});
   expectInputError(
-      [&] { parseScene(edited(base, "material: {preset: cotton_eischen, areal_density: -1}"), ".", "t"); },
+      [&] { parseScene(edited(base, "material: {preset: cotton_eischen, young: 0}"), ".", "t"); },
+      {"material.young", "positive"});
+  expectInputError(
+      [&] {
+        parseScene(edited(base, "material: {preset: cotton_eischen, young: -3e5}"), ".", "t");
+      },
+      {"material.young"});
+  expectInputError(
+      [&] {
+        parseScene(edited(base, "material: {preset: cotton_eischen, poisson: 0.5}"), ".", "t");
+      },
+      {"material.poisson", "[0, 0.5)"});
+  expectInputError(
+      [&] {
+        parseScene(edited(base, "material: {preset: cotton_eischen, poisson: -0.1}"), ".", "t");
+      },
+      {"material.poisson"});
+  expectInputError(
+      [&] {
+        parseScene(edited(base, "material: {preset: cotton_eischen, thickness: 0}"), ".", "t");
+      },
+      {"material.thickness"});
+  expectInputError(
+      [&] {
+        parseScene(edited(base, "material: {preset: cotton_eischen, areal_density: -1}"), ".", "t");
+      },
       {"material.areal_density", "negative"});
-  expectInputError([&] { parseScene(edited(base, "material: {preset: cotton_eischen, young: abc}"), ".", "t"); },
-                   {"material.young", "number"});
+  expectInputError(
+      [&] { parseScene(edited(base, "material: {preset: cotton_eischen, young: abc}"), ".", "t"); },
+      {"material.young", "number"});
   expectInputError([&] { parseScene(edited(base, "material: silk"), ".", "t"); },
                    {"material", "silk", "cotton_eischen"});
-  expectInputError([&] { parseScene(edited(base, "material: {young: 1e6, poisson: 0.3}"), ".", "t"); },
-                   {"material.thickness", "missing"});
+  expectInputError(
+      [&] { parseScene(edited(base, "material: {young: 1e6, poisson: 0.3}"), ".", "t"); },
+      {"material.thickness", "missing"});
 }
 
 TEST(Scene, UnknownKeysAndBadValues) {
@@ -184,7 +211,8 @@ TEST(Scene, UnknownKeysAndBadValues) {
                    {"fem_shell.tolerence", "unknown key"});
   expectInputError([&] { parseScene(edited("depth: 0.2", "depht: 0.2"), ".", "t"); },
                    {"colliders[0].table.depht", "unknown key"});
-  expectInputError([&] { parseScene(edited("sphere:", "cone:"), ".", "t"); }, {"colliders[1].cone", "unknown collider"});
+  expectInputError([&] { parseScene(edited("sphere:", "cone:"), ".", "t"); },
+                   {"colliders[1].cone", "unknown collider"});
   expectInputError([&] { parseScene(edited("method: fem_shell", "method: magic"), ".", "t"); },
                    {"method", "magic"});
   expectInputError([&] { parseScene(edited("cells: [4, 2]", "cells: [4, 0]"), ".", "t"); },
@@ -193,13 +221,19 @@ TEST(Scene, UnknownKeysAndBadValues) {
                    {"boundary.clamped[0]", "99"});
   expectInputError([&] { parseScene(edited("axes: [x, y]", "axes: [x, w]"), ".", "t"); },
                    {"boundary.fixed[0].axes", "'w'"});
-  expectInputError([&] { parseScene(edited("max_load_steps: 50", "max_load_steps: 2.5"), ".", "t"); },
-                   {"fem_shell.max_load_steps", "integer"});
+  expectInputError(
+      [&] { parseScene(edited("max_load_steps: 50", "max_load_steps: 2.5"), ".", "t"); },
+      {"fem_shell.max_load_steps", "integer"});
   expectInputError([&] { parseScene(edited("radius: 0.5", "radius: -0.5"), ".", "t"); },
                    {"colliders[1].sphere.radius", "positive"});
+  expectInputError([&] { parseScene(edited("momentum: 0.99", "momentum: 1.5"), ".", "t"); },
+                   {"particle.momentum"});
+  expectInputError([&] { parseScene(edited("momentum: 0.99", "momentun: 0.9"), ".", "t"); },
+                   {"particle.momentun", "unknown key"});
   expectInputError([&] { parseScene("garment: [unclosed", ".", "t"); }, {"YAML"});
   expectInputError([&] { parseScene("", ".", "t"); }, {"empty"});
-  expectInputError([&] { loadScene("/nonexistent/scene.yaml"); }, {"/nonexistent/scene.yaml", "no such"});
+  expectInputError([&] { loadScene("/nonexistent/scene.yaml"); },
+                   {"/nonexistent/scene.yaml", "no such"});
 }
 
 TEST(Scene, GarmentFile) {

@@ -4,8 +4,8 @@
 #include <limits>
 #include <string>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
@@ -29,7 +29,9 @@ void expectRejected(const QuadMesh& mesh, std::initializer_list<std::string> fra
 }
 
 // 16 vertices, 9 quads; vertex (i, j) at (i, j, 0).
-QuadMesh grid() { return makeRectangleMesh(3.0, 3.0, 3, 3, {1.5, 1.5, 0.0}); }
+QuadMesh grid() {
+  return makeRectangleMesh(3.0, 3.0, 3, 3, {1.5, 1.5, 0.0});
+}
 
 TEST(MeshCheck, GeneratedMeshesPass) {
   EXPECT_NO_THROW(checkMesh(grid()));
@@ -169,8 +171,8 @@ TEST(MeshSelection, Selectors) {
 
 TEST(MeshWeld, MergesSeamsAndDropsUnused) {
   QuadMesh m;
-  m.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                {1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1 + 1e-12, 0}, {9, 9, 9}};
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},         {0, 1, 0}, {1, 0, 0},
+                {2, 0, 0}, {2, 1, 0}, {1, 1 + 1e-12, 0}, {9, 9, 9}};
   m.quads = {{0, 1, 2, 3}, {4, 5, 6, 7}};
   weldVertices(m, 1e-9);
   EXPECT_EQ(m.numVertices(), 6);

@@ -15,6 +15,7 @@
 #include "cloth_hair_sim/core/io/drape_report.h"
 #include "cloth_hair_sim/core/io/mesh_writer.h"
 #include "cloth_hair_sim/core/io/scene.h"
+#include "cloth_hair_sim/core/particle/particle_static_solver.h"
 
 namespace {
 
@@ -38,13 +39,22 @@ Options parseArgs(int argc, char** argv) {
       if (i + 1 >= argc) throw chs::InputError(a + " needs a value\n" + kUsage);
       return argv[++i];
     };
-    if (a == "--out") o.out = value();
-    else if (a == "--method") o.method = value();
-    else if (a == "--quiet") o.quiet = true;
-    else if (a == "--help" || a == "-h") { std::cout << kUsage; std::exit(0); }
-    else if (!a.empty() && a[0] == '-') throw chs::InputError("unknown option " + a + "\n" + kUsage);
-    else if (o.scene.empty()) o.scene = a;
-    else throw chs::InputError("more than one scene file given (" + o.scene + ", " + a + ")\n" + kUsage);
+    if (a == "--out")
+      o.out = value();
+    else if (a == "--method")
+      o.method = value();
+    else if (a == "--quiet")
+      o.quiet = true;
+    else if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      std::exit(0);
+    } else if (!a.empty() && a[0] == '-')
+      throw chs::InputError("unknown option " + a + "\n" + kUsage);
+    else if (o.scene.empty())
+      o.scene = a;
+    else
+      throw chs::InputError("more than one scene file given (" + o.scene + ", " + a + ")\n" +
+                            kUsage);
   }
   if (o.scene.empty()) throw chs::InputError(std::string("no scene file given\n") + kUsage);
   return o;
@@ -55,9 +65,9 @@ chs::DrapeResult solve(const chs::Scene& scene, const chs::ProgressCallback& pro
     case chs::DrapeMethod::kFemShell:
       return chs::solveFemShell(scene.problem, scene.fem_shell, progress);
     case chs::DrapeMethod::kParticle:
-      break;
+      return chs::solveParticleStatic(scene.problem, scene.particle, progress);
   }
-  throw chs::InputError("method particle: the particle solver is not part of this build yet");
+  throw chs::InputError("unknown method");
 }
 
 int run(int argc, char** argv) {
@@ -72,9 +82,8 @@ int run(int argc, char** argv) {
 
   if (!opt.quiet)
     std::cout << "drape: scene " << scene.name << ", method " << method << ", "
-              << scene.problem.mesh.numVertices() << " vertices, "
-              << scene.problem.mesh.numQuads() << " quads, material " << scene.material_name
-              << std::endl;
+              << scene.problem.mesh.numVertices() << " vertices, " << scene.problem.mesh.numQuads()
+              << " quads, material " << scene.material_name << std::endl;
   chs::ProgressCallback progress;
   if (!opt.quiet)
     progress = [](const chs::ProgressEvent& e) {
@@ -98,10 +107,9 @@ int run(int argc, char** argv) {
   context.scene_name = scene.name;
   context.scene_file = scene.file;
   context.method = method;
-  if (scene.method == chs::DrapeMethod::kFemShell)
-    context.settings = chs::settingsList(scene.fem_shell);
-  else
-    context.settings.assign(scene.particle.begin(), scene.particle.end());
+  context.settings = scene.method == chs::DrapeMethod::kFemShell
+                         ? chs::settingsList(scene.fem_shell)
+                         : chs::settingsList(scene.particle);
   context.material = chs::materialList(scene.problem.material);
   for (const auto& c : scene.problem.colliders) context.colliders.push_back(c->describe());
   context.vertices = scene.problem.mesh.numVertices();
@@ -119,9 +127,9 @@ int run(int argc, char** argv) {
     }
   };
   picture("convergence plot", [&] {
-    chs::plotConvergence(result, (dir / scene.output.convergence).string(), title,
-                         scene.method == chs::DrapeMethod::kFemShell ? scene.fem_shell.tolerance
-                                                                     : 0.0);
+    chs::plotConvergence(
+        result, (dir / scene.output.convergence).string(), title,
+        scene.method == chs::DrapeMethod::kFemShell ? scene.fem_shell.tolerance : 0.0);
   });
   picture("drape picture", [&] {
     chs::plotDrape(scene.problem.mesh, positions, scene.colliders,
@@ -134,8 +142,7 @@ int run(int argc, char** argv) {
               << result.load_steps << " load steps, " << result.iterations << " iterations, "
               << result.wall_time_s << " s: " << result.status << "\ndrape: results in "
               << dir.string() << std::endl;
-  if (!result.converged)
-    std::cerr << "drape: not converged: " << result.status << std::endl;
+  if (!result.converged) std::cerr << "drape: not converged: " << result.status << std::endl;
   return result.converged ? kConverged : kNotConverged;
 }
 

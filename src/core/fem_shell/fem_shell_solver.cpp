@@ -22,6 +22,9 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
   s.max_load_steps = settings.max_load_steps;
   s.max_cutbacks = settings.max_cutbacks;
   s.arc_length = settings.arc_length;
+  s.stabilization = settings.stabilization;
+  s.max_settling_steps = settings.max_settling_steps;
+  if (settings.imperfection > 0.0) model.perturb(settings.imperfection, settings.imperfection_seed);
   const ContinuationResult c = solveArcLength(model, s, progress);
 
   DrapeResult r;

@@ -1,5 +1,7 @@
 #include "cloth_hair_sim/core/fem_shell/shell_model.h"
 
+#include <random>
+
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
 
@@ -32,6 +34,7 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
     nodes_[v].frame = DirectorFrame(normal[v].normalized());
   }
   f_dead_.assign(nv, Eigen::Vector3d::Zero());
+  nodal_mass_.assign(nv, 0.0);
   moment_.assign(nv, Eigen::Vector3d::Zero());
   elements_.reserve(mesh.numQuads());
   for (int e = 0; e < mesh.numQuads(); ++e) {
@@ -42,9 +45,11 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
     if (!elements_.back().isValid())
       throw InputError("quad " + std::to_string(e) + " is degenerate or folded over");
     // Gravity as a distributed load, consistently lumped: int N_I rho g dA.
-    for (int I = 0; I < 4; ++I)
-      f_dead_[q[I]] += elements_.back().nodalAreas()[I] * problem.material.areal_density *
-                       problem.gravity;
+    for (int I = 0; I < 4; ++I) {
+      const double m = elements_.back().nodalAreas()[I] * problem.material.areal_density;
+      nodal_mass_[q[I]] += m;
+      f_dead_[q[I]] += m * problem.gravity;
+    }
   }
   for (const auto& l : problem.bc.loads) {
     f_dead_[l.vertex] += l.force;
@@ -70,6 +75,12 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
   Eigen::AlignedBox3d box;
   for (const auto& x : mesh.vertices) box.extend(x);
   length_scale_ = std::max(box.diagonal().norm(), 1e-12);
+  double edges = 0.0;
+  for (const auto& q : mesh.quads)
+    for (int I = 0; I < 4; ++I) edges += (mesh.vertices[q[I]] - mesh.vertices[q[(I + 1) % 4]]).norm();
+  mean_edge_ = mesh.quads.empty() ? 1.0 : edges / (4.0 * mesh.numQuads());
+  contact_smoothing_ = 1e-4 * mean_edge_;
+  saved_ = nodes_;
   // Penalty k_c: a hundred times the membrane stiffness E h keeps penetration a fraction of the
   // strains while leaving the tangent well conditioned for the direct solver.
   k_contact_ = contact_stiffness > 0.0 ? contact_stiffness
@@ -107,6 +118,8 @@ void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F
   }
 
   active_contacts_ = 0;
+  // Stabilisation stiffness per unit mass: the weight of a node displaced by one element length.
+  const double stab = stabilization_ * problem_.gravity.norm() / mean_edge_;
   for (int v = 0; v < nv; ++v) {
     const ShellNode& node = nodes_[v];
     Eigen::Matrix<double, 5, 1> load;
@@ -120,14 +133,19 @@ void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F
     load.tail<2>() = L.transpose() * moment_[v].cross(t);
     Kn.bottomRightCorner<2, 2>() = -lambda * L.transpose() * skew(moment_[v]) * L;
     Eigen::Vector3d fc = Eigen::Vector3d::Zero();
-    // Penalty contact, eqs. (33)-(35): active where the node touches or penetrates.
+    if (stab > 0.0) {  // viscous pseudo-time term, -c m (x - x_n)
+      fc -= stab * nodal_mass_[v] * (node.position - saved_[v].position);
+      Kn.topLeftCorner<3, 3>() += stab * nodal_mass_[v] * Eigen::Matrix3d::Identity();
+    }
+    // Penalty contact, eqs. (33)-(35), active where the node penetrates.
     for (const auto& surface : problem_.colliders) {
       const SurfaceProjection p = surface->project(node.position);
-      if (p.gap > 0.0) continue;
+      const Penalty f = penalty(p.gap);
+      if (f.stiffness == 0.0) continue;
       ++active_contacts_;
-      fc -= k_contact_ * p.gap * p.normal;
+      fc += f.force * p.normal;
       Kn.topLeftCorner<3, 3>() +=
-          k_contact_ * (p.normal * p.normal.transpose() + p.gap * p.normal_gradient);
+          f.stiffness * p.normal * p.normal.transpose() - f.force * p.normal_gradient;
     }
     for (int a = 0; a < 5; ++a) {
       const int ra = dof_[5 * v + a];
@@ -147,6 +165,36 @@ void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F
   }
 }
 
+ShellModel::Penalty ShellModel::penalty(double gap) const {
+  // k_c times the penetration (eq. (35)) with its kink rounded into a parabola over a band of
+  // width delta centred on the surface: Newton then converges instead of cycling on nodes that
+  // touch and leave, and a cloth laid exactly on a surface is held (stiffness k_c / 2) from the
+  // first load step on.
+  const double delta = contact_smoothing_, p = 0.5 * delta - gap;
+  if (p <= 0.0) return {0.0, 0.0};
+  if (p >= delta) return {k_contact_ * (p - 0.5 * delta), k_contact_};
+  return {0.5 * k_contact_ * p * p / delta, k_contact_ * p / delta};
+}
+
+void ShellModel::save() {
+  last_motion_ = 0.0;
+  for (std::size_t v = 0; v < nodes_.size(); ++v)
+    last_motion_ = std::max(last_motion_, (nodes_[v].position - saved_[v].position).norm());
+  saved_ = nodes_;
+}
+
+void ShellModel::setStabilization(double factor) { stabilization_ = factor; }
+
+void ShellModel::perturb(double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-amplitude, amplitude);
+  for (std::size_t v = 0; v < nodes_.size(); ++v) {
+    const double a = u(rng);
+    if (dof_[5 * v + 2] >= 0) nodes_[v].position += a * nodes_[v].frame.director();
+  }
+  saved_ = nodes_;
+}
+
 void ShellModel::increment(const Eigen::VectorXd& dq) {
   for (std::size_t v = 0; v < nodes_.size(); ++v) {
     double u[5];
@@ -164,9 +212,8 @@ std::vector<ContactReaction> ShellModel::reactions() const {
   for (std::size_t v = 0; v < nodes_.size(); ++v)
     for (std::size_t s = 0; s < problem_.colliders.size(); ++s) {
       const SurfaceProjection p = problem_.colliders[s]->project(nodes_[v].position);
-      if (p.gap > 0.0) continue;
-      const Eigen::Vector3d f = -k_contact_ * p.gap * p.normal;
-      if (f.norm() > 0.0) out.push_back({static_cast<int>(v), static_cast<int>(s), f});
+      const Penalty f = penalty(p.gap);
+      if (f.force > 0.0) out.push_back({static_cast<int>(v), static_cast<int>(s), f.force * p.normal});
     }
   return out;
 }

@@ -9,11 +9,14 @@ namespace chs {
 
 std::shared_ptr<const RigidSurface> ColliderSpec::makeSurface() const {
   switch (type) {
-    case Type::kPlane: return std::make_shared<PlaneSurface>(point, normal);
-    case Type::kBox: return std::make_shared<BoxSurface>(lo, hi);
+    case Type::kPlane:
+      return std::make_shared<PlaneSurface>(point, normal);
+    case Type::kBox:
+      return std::make_shared<BoxSurface>(lo, hi);
     case Type::kCylinder:
       return std::make_shared<CylinderSurface>(axis_xy, radius, z_bottom, z_top);
-    case Type::kSphere: return std::make_shared<SphereSurface>(point, radius);
+    case Type::kSphere:
+      return std::make_shared<SphereSurface>(point, radius);
   }
   return nullptr;
 }
@@ -31,11 +34,12 @@ QuadPatches sketchCollider(const ColliderSpec& s, double z_floor, double extent)
     case ColliderSpec::Type::kBox: {
       const double zb = std::max(s.lo.z(), std::min(z_floor, s.hi.z()));
       const V a = s.lo, b = s.hi;
-      const V c[8] = {{a.x(), a.y(), zb}, {b.x(), a.y(), zb}, {b.x(), b.y(), zb}, {a.x(), b.y(), zb},
-                      {a.x(), a.y(), b.z()}, {b.x(), a.y(), b.z()}, {b.x(), b.y(), b.z()},
-                      {a.x(), b.y(), b.z()}};
+      const V c[8] = {{a.x(), a.y(), zb},    {b.x(), a.y(), zb},    {b.x(), b.y(), zb},
+                      {a.x(), b.y(), zb},    {a.x(), a.y(), b.z()}, {b.x(), a.y(), b.z()},
+                      {b.x(), b.y(), b.z()}, {a.x(), b.y(), b.z()}};
       out.push_back({c[4], c[5], c[6], c[7]});
-      for (int k = 0; k < 4; ++k) out.push_back({c[k], c[(k + 1) % 4], c[4 + (k + 1) % 4], c[4 + k]});
+      for (int k = 0; k < 4; ++k)
+        out.push_back({c[k], c[(k + 1) % 4], c[4 + (k + 1) % 4], c[4 + k]});
       break;
     }
     case ColliderSpec::Type::kCylinder: {

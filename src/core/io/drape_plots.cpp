@@ -1,6 +1,7 @@
 #include "cloth_hair_sim/core/io/drape_plots.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -29,9 +30,14 @@ void plotConvergence(const DrapeResult& result, const std::string& png_path,
   std::ostringstream s;
   s << std::setprecision(10);
   s << "$hist << EOD\n";
-  for (std::size_t i = 0; i < result.history.size(); ++i) {
-    const auto& e = result.history[i];
-    s << i + 1 << ' ' << std::max(e.residual, 1e-300) << ' ' << e.load_factor << ' '
+  // Iterations count from 1 in each load step (the particle method reports every n-th one):
+  // add up the last count of every finished step.
+  long offset = 0, last = 0;
+  int step = result.history.front().load_step;
+  for (const auto& e : result.history) {
+    if (e.load_step != step || e.iteration < last) offset += last, step = e.load_step;
+    last = e.iteration;
+    s << offset + e.iteration << ' ' << std::max(e.residual, 1e-300) << ' ' << e.load_factor << ' '
       << e.load_step << '\n';
   }
   s << "EOD\n"
@@ -41,7 +47,7 @@ void plotConvergence(const DrapeResult& result, const std::string& png_path,
     << "set xlabel 'cumulative iteration'\n"
     << "set ylabel 'relative residual'\nset logscale y\nset format y '10^{%L}'\n"
     << "set y2label 'load factor {/Symbol l}'\nset y2tics\nset ytics nomirror\n"
-    << "set y2range [0:*]\nset grid\nset key top right box opaque\n";
+    << "set y2range [0:1.05 < * ]\nset grid\nset key top right box opaque\n";
   if (tolerance > 0.0)
     s << "set arrow from graph 0, first " << tolerance << " to graph 1, first " << tolerance
       << " nohead dt 2 lc rgb 'gray40'\n"
@@ -67,10 +73,26 @@ void plotDrape(const QuadMesh& mesh, const std::vector<Eigen::Vector3d>& positio
   for (const auto& q : mesh.quads)
     appendQuad(s, positions[q[0]], positions[q[1]], positions[q[2]], positions[q[3]]);
   s << "EOD\n$solid << EOD\n";
+  // Obstacle faces split to about the cloth's element size: pm3d sorts quads by their centres,
+  // so a large face would hide cloth in front of it.
+  double edge = 0.0;
+  for (const auto& q : mesh.quads) edge += (positions[q[1]] - positions[q[0]]).norm();
+  edge = std::max(edge / mesh.numQuads(), 1e-3 * extent);
   bool any_solid = false;
   for (const auto& c : colliders)
     for (const auto& q : sketchCollider(c, z_floor, 0.6 * extent)) {
-      appendQuad(s, q[0], q[1], q[2], q[3]);
+      const double size = std::max((q[2] - q[0]).norm(), (q[3] - q[1]).norm());
+      const int n = std::clamp(static_cast<int>(std::ceil(size / edge)), 1, 64);
+      // Drawn a little low: cloth resting on a face would otherwise fight with it for depth.
+      const Eigen::Vector3d drop(0.0, 0.0, -0.02 * extent);
+      auto at = [&](int i, int j) {
+        const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
+        return Eigen::Vector3d((1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] +
+                               (1 - u) * v * q[3] + drop);
+      };
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          appendQuad(s, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
       any_solid = true;
     }
   s << "EOD\n";
@@ -88,7 +110,8 @@ void plotDrape(const QuadMesh& mesh, const std::vector<Eigen::Vector3d>& positio
     << "set title '3D view'\n"
     << "splot $cloth with pm3d notitle";
   if (any_solid) s << ", $solid with pm3d fc rgb '#b8b8b8' notitle";
-  s << "\nset title 'top view'\nset view map\nset view equal xy\nunset zlabel\n"
+  s << "\nset title 'top view'\nset view 0, 0, 1, 1\nset view equal xy\nunset zlabel\n"
+    << "unset ztics\n"
     << "splot $cloth with pm3d notitle";
   if (any_solid) s << ", $solid with pm3d fc rgb '#b8b8b8' notitle";
   s << "\nunset multiplot\n";

@@ -12,10 +12,14 @@ namespace chs {
 
 namespace {
 
-nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vec(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 // JSON has no NaN/Inf: a diverged solve must still give a readable report.
-nlohmann::json num(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+nlohmann::json num(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json();
+}
 
 }  // namespace
 
@@ -59,7 +63,8 @@ std::string drapeReportJson(const DrapeResult& r, const ReportContext& c) {
   std::map<int, Eigen::Vector3d> per_surface;
   Eigen::Vector3d total = Eigen::Vector3d::Zero();
   for (const auto& rc : r.reactions) {
-    per_vertex.push_back({{"vertex", rc.vertex}, {"surface", rc.surface}, {"force", vec(rc.force)}});
+    per_vertex.push_back(
+        {{"vertex", rc.vertex}, {"surface", rc.surface}, {"force", vec(rc.force)}});
     auto it = per_surface.emplace(rc.surface, Eigen::Vector3d::Zero()).first;
     it->second += rc.force;
     total += rc.force;

@@ -65,8 +65,8 @@ void runGnuplot(const std::string& script) {
     out << script;
     if (!out) throw std::runtime_error("gnuplot: cannot write " + script_file.path);
   }
-  const std::string command = "'" + exe + "' '" + script_file.path + "' > '" + log_file.path +
-                              "' 2>&1";
+  const std::string command =
+      "'" + exe + "' '" + script_file.path + "' > '" + log_file.path + "' 2>&1";
   const int status = std::system(command.c_str());
   if (status != 0) {
     std::ifstream log(log_file.path);

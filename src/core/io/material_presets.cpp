@@ -9,8 +9,8 @@ constexpr double kGramForce = 9.80665e-3;  // N
 std::optional<ShellMaterial> materialPreset(const std::string& name) {
   ShellMaterial m;
   if (name == "cotton_eischen") {
-    m.young = 118.1176 * kGramForce / 1e-6;       // gf/mm^2 -> Pa
-    m.areal_density = 0.2384e-3 * 1e-3 / 1e-6;    // weight in gf/mm^2 is mass in g/mm^2
+    m.young = 118.1176 * kGramForce / 1e-6;     // gf/mm^2 -> Pa
+    m.areal_density = 0.2384e-3 * 1e-3 / 1e-6;  // weight in gf/mm^2 is mass in g/mm^2
     m.thickness = 0.54229e-3;
     m.poisson = 0.3;
     return m;
@@ -20,13 +20,15 @@ std::optional<ShellMaterial> materialPreset(const std::string& name) {
     m.poisson = 0.3;
     m.thickness = 0.8e-3;
     m.areal_density = 22e-6 / 1e-4;  // mg/cm^2 -> kg/m^2
-    m.young = 12.0 * (1.0 - m.poisson * m.poisson) * bending /
-              (m.thickness * m.thickness * m.thickness);
+    m.young =
+        12.0 * (1.0 - m.poisson * m.poisson) * bending / (m.thickness * m.thickness * m.thickness);
     return m;
   }
   return std::nullopt;
 }
 
-std::vector<std::string> materialPresetNames() { return {"cotton_eischen", "wool_suiting"}; }
+std::vector<std::string> materialPresetNames() {
+  return {"cotton_eischen", "wool_suiting"};
+}
 
 }  // namespace chs

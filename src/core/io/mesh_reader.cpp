@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <string>
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
@@ -30,14 +30,13 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent
       const aiFace& face = mesh.mFaces[f];
       if (face.mNumIndices < 3) continue;  // stray points and lines carry no cloth
       if (face.mNumIndices != 4)
-        throw InputError(path + ": face " + std::to_string(f) + " of mesh '" +
-                         mesh.mName.C_Str() + "' has " + std::to_string(face.mNumIndices) +
+        throw InputError(path + ": face " + std::to_string(f) + " of mesh '" + mesh.mName.C_Str() +
+                         "' has " + std::to_string(face.mNumIndices) +
                          " corners; only quads are supported (the FEM shell is quad-based; "
                          "remesh the garment with quads)");
-      out.quads.push_back({base + static_cast<int>(face.mIndices[0]),
-                           base + static_cast<int>(face.mIndices[1]),
-                           base + static_cast<int>(face.mIndices[2]),
-                           base + static_cast<int>(face.mIndices[3])});
+      out.quads.push_back(
+          {base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[1]),
+           base + static_cast<int>(face.mIndices[2]), base + static_cast<int>(face.mIndices[3])});
     }
   }
   for (unsigned c = 0; c < node.mNumChildren; ++c)
@@ -50,8 +49,7 @@ QuadMesh readQuadMesh(const std::string& path, double scale) {
   if (!std::isfinite(scale) || scale <= 0.0)
     throw InputError(path + ": scale must be positive, got " + std::to_string(scale));
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(path + ": no such mesh file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such mesh file");
   Assimp::Importer importer;
   // No post-processing: any triangulating preset would destroy the quads.
   const aiScene* scene = importer.ReadFile(path, 0);

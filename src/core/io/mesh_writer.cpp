@@ -46,7 +46,8 @@ void writePly(const std::string& path, const QuadMesh& mesh,
       << "property double z\nelement face " << mesh.numQuads()
       << "\nproperty list uchar int vertex_indices\nend_header\n";
   for (const auto& p : positions) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  for (const auto& q : mesh.quads) out << "4 " << q[0] << ' ' << q[1] << ' ' << q[2] << ' ' << q[3] << '\n';
+  for (const auto& q : mesh.quads)
+    out << "4 " << q[0] << ' ' << q[1] << ' ' << q[2] << ' ' << q[3] << '\n';
   finish(out, path);
 }
 

@@ -98,7 +98,9 @@ class Section {
     if (!n.IsScalar()) fail(key(k), "must be a string");
     return n.as<std::string>();
   }
-  Eigen::VectorXd vector(const std::string& k, int size) { return toVector(require(k), key(k), size); }
+  Eigen::VectorXd vector(const std::string& k, int size) {
+    return toVector(require(k), key(k), size);
+  }
   Eigen::Vector3d vector3(const std::string& k, const Eigen::Vector3d& fallback) {
     if (!has(k)) return fallback;
     return vector(k, 3);
@@ -141,7 +143,8 @@ class Section {
 };
 
 // Exactly one of the given keys must be present: the kind of a garment, collider or selector.
-std::string kindOf(const Section& s, const std::vector<std::string>& kinds, const std::string& what) {
+std::string kindOf(const Section& s, const std::vector<std::string>& kinds,
+                   const std::string& what) {
   std::string found, list;
   for (const auto& k : kinds) {
     list += (list.empty() ? "" : ", ") + k;
@@ -202,8 +205,8 @@ QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
   }
   g.done();
   const std::filesystem::path p(path);
-  QuadMesh mesh = readQuadMesh(p.is_absolute() ? path : (std::filesystem::path(base_dir) / p).string(),
-                               scale);
+  QuadMesh mesh =
+      readQuadMesh(p.is_absolute() ? path : (std::filesystem::path(base_dir) / p).string(), scale);
   for (auto& v : mesh.vertices) v += translate;
   return mesh;
 }
@@ -258,8 +261,7 @@ ShellMaterial parseMaterial(const YAML::Node& node, std::string& name) {
   if (!(m.thickness > 0.0))
     fail(s.key("thickness"), "must be positive (m), got " + str(m.thickness));
   if (!(m.areal_density >= 0.0))
-    fail(s.key("areal_density"), "must not be negative (kg/m^2), got " +
-                                     str(m.areal_density));
+    fail(s.key("areal_density"), "must not be negative (kg/m^2), got " + str(m.areal_density));
   if (!(m.shear_correction > 0.0)) fail(s.key("shear_correction"), "must be positive");
   if (has_preset && modified) name += " (modified)";
   return m;
@@ -267,8 +269,9 @@ ShellMaterial parseMaterial(const YAML::Node& node, std::string& name) {
 
 ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
   if (!node.IsMap() || node.size() != 1)
-    fail(key, "a collider is a mapping with one key: plane, table, box, pedestal, cylinder or "
-              "sphere");
+    fail(key,
+         "a collider is a mapping with one key: plane, table, box, pedestal, cylinder or "
+         "sphere");
   Section outer(node, key);
   const std::string kind =
       kindOf(outer, {"plane", "table", "box", "pedestal", "cylinder", "sphere"}, "collider");
@@ -365,7 +368,8 @@ void select(const YAML::Node& node, const std::string& key, const QuadMesh& mesh
   if (out.size() == before) fail(key, "selects no vertex");
 }
 
-std::vector<int> selectUnique(const YAML::Node& node, const std::string& key, const QuadMesh& mesh) {
+std::vector<int> selectUnique(const YAML::Node& node, const std::string& key,
+                              const QuadMesh& mesh) {
   std::vector<int> v;
   select(node, key, mesh, v);
   std::sort(v.begin(), v.end());
@@ -439,6 +443,33 @@ FemShellSettings parseFemShell(const YAML::Node& node) {
   return f;
 }
 
+ParticleSettings parseParticle(const YAML::Node& node) {
+  Section s(node, "particle");
+  ParticleSettings p;
+  p.network.stretch_compression = s.positive("stretch_compression", p.network.stretch_compression);
+  p.network.shear_compression = s.positive("shear_compression", p.network.shear_compression);
+  auto nonNegative = [&](const char* k, double fallback) {
+    const double x = s.number(k, fallback);
+    if (x < 0.0) fail(s.key(k), "must not be negative (0 picks a default)");
+    return x;
+  };
+  p.c_disp = nonNegative("c_disp", p.c_disp);
+  p.c_acc = nonNegative("c_acc", p.c_acc);
+  p.momentum = s.number("momentum", p.momentum);
+  if (!(p.momentum >= 0.0 && p.momentum < 1.0)) fail(s.key("momentum"), "must lie in [0, 1)");
+  p.restart = s.boolean("restart", p.restart);
+  p.displacement_tolerance = s.positive("displacement_tolerance", p.displacement_tolerance);
+  p.force_tolerance = s.positive("force_tolerance", p.force_tolerance);
+  p.max_iterations = s.integer("max_iterations", p.max_iterations, 1);
+  p.progress_interval = s.integer("progress_interval", p.progress_interval, 1);
+  p.contact_tolerance = nonNegative("contact_tolerance", p.contact_tolerance);
+  p.sewing_stiffness = nonNegative("sewing_stiffness", p.sewing_stiffness);
+  p.seam_join_distance = nonNegative("seam_join_distance", p.seam_join_distance);
+  p.max_sewing_iterations = s.integer("max_sewing_iterations", p.max_sewing_iterations, 1);
+  s.done();
+  return p;
+}
+
 SceneOutput parseOutput(const YAML::Node& node, SceneOutput out) {
   Section s(node, "output");
   out.directory = s.text("directory", out.directory);
@@ -448,8 +479,8 @@ SceneOutput parseOutput(const YAML::Node& node, SceneOutput out) {
   out.convergence = s.text("convergence", out.convergence);
   out.picture = s.text("picture", out.picture);
   s.done();
-  for (const auto* f : {&out.directory, &out.obj, &out.ply, &out.report, &out.convergence,
-                        &out.picture})
+  for (const auto* f :
+       {&out.directory, &out.obj, &out.ply, &out.report, &out.convergence, &out.picture})
     if (f->empty()) fail("output", "file names must not be empty");
   return out;
 }
@@ -467,20 +498,14 @@ Scene parse(const YAML::Node& root, const std::string& base_dir, const std::stri
   if (YAML::Node colliders = s.get("colliders")) {
     if (!colliders.IsSequence()) fail("colliders", "must be a list");
     for (std::size_t i = 0; i < colliders.size(); ++i) {
-      scene.colliders.push_back(parseCollider(colliders[i], "colliders[" + std::to_string(i) + "]"));
+      scene.colliders.push_back(
+          parseCollider(colliders[i], "colliders[" + std::to_string(i) + "]"));
       scene.problem.colliders.push_back(scene.colliders.back().makeSurface());
     }
   }
   if (s.has("boundary")) scene.problem.bc = parseBoundary(s.get("boundary"), scene.problem.mesh);
   if (s.has("fem_shell")) scene.fem_shell = parseFemShell(s.get("fem_shell"));
-  if (YAML::Node p = s.get("particle")) {
-    Section ps(p, "particle");
-    for (const auto& kv : p) {
-      const std::string k = kv.first.as<std::string>();
-      scene.particle[k] = ps.number(k);
-    }
-    ps.done();
-  }
+  if (s.has("particle")) scene.particle = parseParticle(s.get("particle"));
   scene.output.directory = "drape_output/" + scene.name;
   if (s.has("output")) scene.output = parseOutput(s.get("output"), scene.output);
   s.done();
@@ -543,6 +568,20 @@ std::vector<std::pair<std::string, double>> settingsList(const FemShellSettings&
           {"max_cutbacks", s.max_cutbacks},
           {"contact_stiffness", s.contact_stiffness},
           {"arc_length", s.arc_length ? 1.0 : 0.0}};
+}
+
+std::vector<std::pair<std::string, double>> settingsList(const ParticleSettings& s) {
+  return {{"stretch_compression", s.network.stretch_compression},
+          {"shear_compression", s.network.shear_compression},
+          {"c_disp", s.c_disp},
+          {"c_acc", s.c_acc},
+          {"momentum", s.momentum},
+          {"restart", s.restart ? 1.0 : 0.0},
+          {"displacement_tolerance", s.displacement_tolerance},
+          {"force_tolerance", s.force_tolerance},
+          {"max_iterations", s.max_iterations},
+          {"progress_interval", s.progress_interval},
+          {"contact_tolerance", s.contact_tolerance}};
 }
 
 std::vector<std::pair<std::string, double>> materialList(const ShellMaterial& m) {

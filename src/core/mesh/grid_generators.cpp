@@ -70,7 +70,9 @@ QuadMesh discBlocks(double radius, int cells_across, int k, const Eigen::Vector3
         std::sqrt(2.0) * a * Eigen::Vector2d(std::cos(t * M_PI / 4), std::sin(t * M_PI / 4));
     return rotate(side, (1 - bulge) * square + bulge * arc);
   };
-  auto at = [&](const Eigen::Vector2d& p) { return Eigen::Vector3d(c.x() + p.x(), c.y() + p.y(), z); };
+  auto at = [&](const Eigen::Vector2d& p) {
+    return Eigen::Vector3d(c.x() + p.x(), c.y() + p.y(), z);
+  };
   QuadMesh mesh;
   // Central block: Coons patch of the four bulged sides.
   appendBlock(mesh, m, m, [&](double u, double v) {

@@ -54,8 +54,8 @@ void checkMesh(const QuadMesh& mesh) {
   for (int v = 0; v < nv; ++v)
     if (!mesh.vertices[v].allFinite()) {
       std::ostringstream s;
-      s << "mesh: vertex " << v << " has a non-finite coordinate ("
-        << mesh.vertices[v].transpose() << ")";
+      s << "mesh: vertex " << v << " has a non-finite coordinate (" << mesh.vertices[v].transpose()
+        << ")";
       throw InputError(s.str());
     }
 
@@ -85,17 +85,17 @@ void checkMesh(const QuadMesh& mesh) {
     area[q] = areaVector(mesh, mesh.quads[q]);
     mean_area += area[q].norm() / nq;
     for (int k = 0; k < 4; ++k)
-      mean_edge += (mesh.vertices[mesh.quads[q][(k + 1) % 4]] - mesh.vertices[mesh.quads[q][k]])
-                       .norm() /
-                   (4.0 * nq);
+      mean_edge +=
+          (mesh.vertices[mesh.quads[q][(k + 1) % 4]] - mesh.vertices[mesh.quads[q][k]]).norm() /
+          (4.0 * nq);
   }
   for (int q = 0; q < nq; ++q) {
     const auto& c = mesh.quads[q];
     for (int k = 0; k < 4; ++k) {
       const double len = (mesh.vertices[c[(k + 1) % 4]] - mesh.vertices[c[k]]).norm();
       if (!(len > 1e-12 * mean_edge))
-        throw InputError("mesh: quad " + std::to_string(q) + " is degenerate: " +
-                         edgeName(c[k], c[(k + 1) % 4]) + " has zero length");
+        throw InputError("mesh: quad " + std::to_string(q) +
+                         " is degenerate: " + edgeName(c[k], c[(k + 1) % 4]) + " has zero length");
     }
     if (!(area[q].norm() > 1e-12 * mean_area)) {
       std::ostringstream s;

@@ -6,6 +6,8 @@
 
 #include <Eigen/UmfPackSupport>
 
+extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+
 namespace chs {
 
 namespace {
@@ -15,6 +17,11 @@ namespace {
 // pattern never changes, so its symbolic analysis is done once.
 class TangentSolver {
  public:
+  TangentSolver() {
+    // OpenBLAS's own threads spin against oneTBB's on systems this small; one is faster.
+    if (openblas_set_num_threads) openblas_set_num_threads(1);
+    lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;  // Newton itself refines the solution
+  }
   bool factorize(const Eigen::SparseMatrix<double>& K) {
     if (!analyzed_) {
       lu_.analyzePattern(K);
@@ -38,159 +45,255 @@ class TangentSolver {
   bool analyzed_ = false;
 };
 
-enum class StepOutcome { kConverged, kDiverged, kSingular };
+enum class Outcome { kConverged, kDiverged, kSingular };
+
+const char* kRigidBodyHint =
+    "the garment may have a rigid-body mode (no support, or free to slide or spin in the "
+    "plane); clamp, pin or fix components to hold it";
+
+// One load step of section 2.2.3 from the last saved state: predictor (steps 3.1-3.7) and
+// corrector iterations (step 4), either on the arc (19)-(22) or at a fixed load factor.
+class StepRunner {
+ public:
+  StepRunner(ContinuationProblem& p, const ArcLengthSettings& s, ContinuationResult& out,
+             const ProgressCallback& progress)
+      : p_(p), s_(s), out_(out), progress_(progress), n_(p.size()) {}
+
+  // Tangent direction K^-1 F0 at the saved state; false if K is singular.
+  bool predictorDirection(double lambda, Eigen::VectorXd& uI) {
+    p_.linearize(lambda, R_, F0_, &K_);
+    return lu_.factorize(K_) && lu_.solve(F0_, uI);
+  }
+
+  // Runs the step; on return the problem holds the new state (converged or not).
+  Outcome run(int step, double lambda, double dlam, const Eigen::VectorXd& uI, bool on_arc,
+              double arc, double& lam_out) {
+    d_ = dlam * uI;
+    p_.increment(d_);
+    double lam = lambda + dlam, dl = dlam;
+    if (!on_arc && std::abs(lam - 1.0) < 1e-14) lam = 1.0;
+    double first = 0.0, correction = HUGE_VAL;
+    Outcome outcome = Outcome::kDiverged;
+    int it = 0;
+    for (;; ++it) {
+      p_.linearize(lam, R_, F0_, &K_);
+      res_ = R_.norm() / p_.loadNorm();
+      if (it == 0) first = res_;
+      ProgressEvent e{step, lam, it, res_, p_.activeContacts()};
+      out_.history.push_back(e);
+      if (progress_) progress_(e);
+      // Converged, or stalled at the round-off floor: a residual near the tolerance that a
+      // correction of a millionth of a millionth of the model size no longer reduces.
+      if (res_ <= s_.tolerance ||
+          (res_ <= 100.0 * s_.tolerance && correction <= 1e-12 * p_.lengthScale())) {
+        outcome = Outcome::kConverged;
+        break;
+      }
+      if (!std::isfinite(res_) || res_ > 1e6 * std::max(first, 1.0)) break;
+      if (it == s_.max_iterations_per_step) break;
+      if (!lu_.factorize(K_) || !lu_.solve(R_, uII_)) {
+        outcome = Outcome::kSingular;
+        break;
+      }
+      double dlam_i = 0.0;
+      if (!on_arc) {
+        delta_ = uII_;
+      } else {
+        if (!lu_.solve(F0_, uI_)) {
+          outcome = Outcome::kSingular;
+          break;
+        }
+        const double f = std::sqrt(d_.squaredNorm() + dl * dl) - arc;  // eq. (19)
+        dlam_i = -(f * (f + arc) + d_.dot(uII_)) / (dl + d_.dot(uI_));  // eq. (21)
+        delta_ = dlam_i * uI_ + uII_;                                   // eq. (22)
+      }
+      correction = delta_.lpNorm<Eigen::Infinity>();
+      if (!delta_.allFinite() || correction > 10.0 * p_.lengthScale()) {
+        outcome = Outcome::kSingular;
+        break;
+      }
+      p_.increment(delta_);  // step 4.5
+      if (!on_arc) backtrack(lam);
+      lam += dlam_i;         // step 4.6
+      d_ += delta_;
+      dl += dlam_i;
+    }
+    out_.iterations += it;
+    iterations_ = it;
+    lam_out = lam;
+    return outcome;
+  }
+
+  // Under load control a full Newton correction that raises the residual (an active-set switch,
+  // a large director rotation) is halved until it lowers it; the exponential map makes -a delta
+  // undo a delta exactly. The arc-length corrector keeps full steps to stay on its constraint.
+  void backtrack(double lam) {
+    double alpha = 1.0;
+    for (int k = 0; k < 6; ++k) {
+      p_.linearize(lam, R_, F0_, nullptr);
+      const double trial = R_.norm() / p_.loadNorm();
+      if (!(trial > res_) || res_ <= s_.tolerance) return;
+      p_.increment(-0.5 * alpha * delta_);
+      alpha *= 0.5;
+    }
+    delta_ *= alpha;
+  }
+
+  int iterations() const { return iterations_; }
+  double residual() const { return res_; }
+
+ private:
+  ContinuationProblem& p_;
+  const ArcLengthSettings& s_;
+  ContinuationResult& out_;
+  const ProgressCallback& progress_;
+  const int n_;
+  TangentSolver lu_;
+  Eigen::SparseMatrix<double> K_;
+  Eigen::VectorXd R_, F0_, uI_, uII_, d_, delta_;
+  double res_ = 0.0;
+  int iterations_ = 0;
+};
 
 }  // namespace
 
 ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthSettings& s,
                                   const ProgressCallback& progress) {
   ContinuationResult out;
-  const int n = problem.size();
-  const double load_norm = problem.loadNorm();
-  if (!(load_norm > 0.0)) {
+  if (!(problem.loadNorm() > 0.0)) {
     out.converged = true;
     out.lambda = 1.0;
     out.status = "no load: the reference state is the solution";
     return out;
   }
-  Eigen::VectorXd R(n), F0(n), uI(n), uII(n), d(n);
-  Eigen::SparseMatrix<double> K(n, n);
-  TangentSolver lu;
+  const bool stabilized = s.stabilization > 0.0;
+  const bool arc_length = s.arc_length && !stabilized;
+  double stab_scale = 1.0;  // a stabilised step that fails retries with stronger damping
+  problem.setStabilization(s.stabilization);
+  StepRunner runner(problem, s, out, progress);
+  Eigen::VectorXd uI;
 
-  double lambda = 0.0;          // load factor of the last converged state
-  double arc = 0.0;             // gamma_n * Delta s: the arc length of the coming step
-  double load_step = s.initial_load_increment;  // load-control increment
-  bool final_step = false;      // load control onto lambda = 1
+  double lambda = 0.0;  // load factor of the last converged state
+  double arc = 0.0;     // gamma_n * Delta s: arc length of the coming step
+  double load_step = s.initial_load_increment;
+  bool onto_one = false;  // load control onto lambda = 1 after the arc overshot it
+  int settling = 0;
+  double last_motion = 0.0;
+  bool failed = false;
   problem.save();
 
-  auto record = [&](int step, double lam, int it, double res) {
-    ProgressEvent e{step, lam, it, res, problem.activeContacts()};
-    out.history.push_back(e);
-    if (progress) progress(e);
-  };
-
-  while (lambda < 1.0) {
+  while (!failed) {
+    const bool settle = lambda >= 1.0;
+    if (settle && (!stabilized || stab_scale < 1e-6 ||
+                   problem.lastStepMotion() < 1e-9 * problem.lengthScale() ||
+                   settling >= s.max_settling_steps))
+      break;
     if (out.load_steps >= s.max_load_steps) {
-      out.status = "stopped after " + std::to_string(s.max_load_steps) +
-                   " load steps at load factor " + std::to_string(lambda);
+      std::ostringstream msg;
+      msg << "stopped after " << s.max_load_steps << " load steps at load factor " << lambda;
+      out.status = msg.str();
+      failed = true;
       break;
     }
     const int step = out.load_steps + 1;
-    // Steps 3.1-3.7: predictor along the tangent K^-1 F0.
-    problem.linearize(lambda, R, F0, &K);
-    if (!lu.factorize(K) || !lu.solve(F0, uI)) {
+    if (!runner.predictorDirection(lambda, uI)) {
       out.status = "the tangent stiffness is singular at load factor " + std::to_string(lambda) +
-                   ": the garment has a rigid-body mode (no support, or free to slide or spin "
-                   "in the plane); clamp, pin or fix components to hold it";
+                   ": " + kRigidBodyHint;
+      failed = true;
       break;
     }
     if (arc == 0.0) arc = s.initial_load_increment * uI.norm();  // step 3.4: Delta s
-    double dlam;
-    bool fixed_lambda = final_step || !s.arc_length;
-    if (s.arc_length && !final_step) {
-      dlam = arc / uI.norm();  // step 3.5
-    } else {
-      dlam = final_step ? 1.0 - lambda : load_step;
-    }
-    dlam = std::clamp(dlam, -s.max_load_increment, s.max_load_increment);
-    const bool onto_one = lambda + dlam >= 1.0;
-    if (onto_one) {
+    bool on_arc = arc_length && !onto_one && !settle;
+    double dlam = on_arc ? arc / uI.norm() : (onto_one ? 1.0 - lambda : load_step);  // step 3.5
+    dlam = std::min(dlam, s.max_load_increment);
+    if (settle) {
+      dlam = 0.0;
+    } else if (lambda + dlam >= 1.0) {
       dlam = 1.0 - lambda;
-      fixed_lambda = true;
+      on_arc = false;
     }
-    d = dlam * uI;  // step 3.6
-    problem.increment(d);
-    double lam = onto_one ? 1.0 : lambda + dlam, dl = dlam;
+    double lam = lambda;
+    const Outcome outcome = runner.run(step, lambda, dlam, uI, on_arc, arc, lam);
 
-    // Step 4: corrector iterations.
-    StepOutcome outcome = StepOutcome::kDiverged;
-    int it = 0;
-    double res = 0.0, first_res = 0.0, last_correction = HUGE_VAL;
-    for (; it <= s.max_iterations_per_step; ++it) {
-      problem.linearize(lam, R, F0, &K);
-      res = R.norm() / load_norm;
-      if (it == 0) first_res = res;
-      record(step, lam, it, res);
-      // Converged, or stalled at the round-off floor: a residual near the tolerance that the
-      // last correction (a millionth of a micron of the model) can no longer reduce.
-      if (res <= s.tolerance ||
-          (res <= 100.0 * s.tolerance && last_correction <= 1e-12 * problem.lengthScale())) {
-        outcome = StepOutcome::kConverged;
-        break;
-      }
-      if (!std::isfinite(res) || res > 1e6 * std::max(first_res, 1.0)) break;
-      if (it == s.max_iterations_per_step) break;
-      if (!lu.factorize(K) || !lu.solve(R, uII)) {
-        outcome = StepOutcome::kSingular;
-        break;
-      }
-      double dlam_i = 0.0;
-      Eigen::VectorXd delta;
-      if (fixed_lambda) {
-        delta = uII;
-      } else {
-        if (!lu.solve(F0, uI)) {
-          outcome = StepOutcome::kSingular;
-          break;
-        }
-        const double f = std::sqrt(d.squaredNorm() + dl * dl) - arc;  // eq. (19)
-        dlam_i = -(f * (f + arc) + d.dot(uII)) / (dl + d.dot(uI));     // eq. (21)
-        delta = dlam_i * uI + uII;                                     // eq. (22)
-      }
-      if (!delta.allFinite() || delta.lpNorm<Eigen::Infinity>() > 10.0 * problem.lengthScale()) {
-        outcome = StepOutcome::kSingular;
-        break;
-      }
-      last_correction = delta.lpNorm<Eigen::Infinity>();
-      problem.increment(delta);  // step 4.5
-      lam += dlam_i;             // step 4.6
-      d += delta;
-      dl += dlam_i;
-    }
-    out.iterations += it;
-
-    if (outcome == StepOutcome::kConverged && !fixed_lambda && lam > 1.0) {
+    if (outcome == Outcome::kConverged && on_arc && lam > 1.0) {
       // The arc overshot lambda = 1: redo the step under load control onto 1.
       problem.restore();
-      final_step = true;
+      onto_one = true;
       continue;
     }
-    if (outcome == StepOutcome::kConverged) {
+    if (outcome == Outcome::kConverged) {
       problem.save();
-      lambda = lam;
+      lambda = on_arc ? lam : lambda + dlam;
+      if (!on_arc && std::abs(lambda - 1.0) < 1e-12) lambda = 1.0;
       ++out.load_steps;
-      out.residual = res;
+      if (settle) ++settling;
+      out.residual = runner.residual();
       // Eq. (20): gamma_n = N_p / N_{n-1}, applied cumulatively to the arc length and bounded to
       // [1/2, 2] so that one easy step cannot throw the next one far past a limit point.
-      const double gamma = std::clamp(static_cast<double>(s.target_iterations) /
-                                          std::max(it, 1),
-                                      0.5, 2.0);
+      const double gamma = std::clamp(
+          static_cast<double>(s.target_iterations) / std::max(runner.iterations(), 1), 0.5, 2.0);
       arc *= gamma;
       load_step = std::min(load_step * gamma, s.max_load_increment);
+      if (stabilized && settle) {
+        // Pseudo-transient continuation with switched evolution relaxation: the damping follows
+        // the step motion (the viscous residual), so it fades as the cloth comes to rest and the
+        // last steps are plain Newton steps (Kelley and Keyes 1998).
+        const double motion = problem.lastStepMotion();
+        if (last_motion > 0.0)
+          stab_scale *= std::clamp(motion / last_motion, 0.1, 4.0);
+        last_motion = motion;
+        problem.setStabilization(s.stabilization * stab_scale);
+      } else if (stabilized && stab_scale > 1.0) {
+        stab_scale = std::max(1.0, stab_scale / gamma);
+        problem.setStabilization(s.stabilization * stab_scale);
+      }
       continue;
     }
     // Divergence (step 4.1): back to the last converged state with half the arc length.
     problem.restore();
-    final_step = false;
+    onto_one = false;
     ++out.cutbacks;
     arc *= 0.5;
     load_step *= 0.5;
+    if (stabilized) {
+      stab_scale *= 4.0;
+      problem.setStabilization(s.stabilization * stab_scale);
+    }
     if (out.cutbacks > s.max_cutbacks) {
       std::ostringstream msg;
       msg << "no convergence after " << s.max_cutbacks << " arc-length cutbacks at load factor "
-          << lambda << " (last residual " << res << ")";
-      if (outcome == StepOutcome::kSingular)
-        msg << "; the tangent became singular or the increment ran away: the garment may have "
-               "a rigid-body mode (free to slide or spin); clamp, pin or fix components";
+          << lambda << " (last residual " << runner.residual() << ")";
+      if (outcome == Outcome::kSingular)
+        msg << "; the tangent became singular or the increment ran away: " << kRigidBodyHint;
       out.status = msg.str();
-      break;
+      failed = true;
     }
   }
   out.lambda = lambda;
-  out.converged = lambda >= 1.0;
-  if (out.converged)
-    out.status = "converged: load factor 1 reached in " + std::to_string(out.load_steps) +
-                 " load steps, " + std::to_string(out.iterations) + " iterations";
+  if (failed) return out;
+
+  if (stabilized) {
+    // The viscous force has vanished to round-off; verify equilibrium without it.
+    problem.setStabilization(0.0);
+    double lam = 1.0;
+    const int step = out.load_steps + 1;
+    if (!runner.predictorDirection(1.0, uI) ||
+        runner.run(step, 1.0, 0.0, uI, false, 0.0, lam) != Outcome::kConverged) {
+      problem.restore();
+      out.status = "the stabilised drape settled after " + std::to_string(settling) +
+                   " steps, but Newton without stabilisation did not converge from it (residual " +
+                   std::to_string(runner.residual()) + "); returning the stabilised state";
+      return out;
+    }
+    problem.save();
+    out.residual = runner.residual();
+  }
+  out.converged = true;
+  std::ostringstream msg;
+  msg << "converged: load factor 1 reached in " << out.load_steps << " load steps, "
+      << out.iterations << " iterations";
+  if (stabilized) msg << " (" << settling << " settling steps)";
+  out.status = msg.str();
   return out;
 }
 

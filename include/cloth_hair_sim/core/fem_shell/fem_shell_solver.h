@@ -15,6 +15,13 @@ struct FemShellSettings {
   int max_cutbacks = 20;
   double contact_stiffness = 0.0;      // k_c; 0 picks one from the membrane stiffness
   bool arc_length = true;              // false: plain load control with the same cutbacks
+  // Viscous stabilisation of buckling drapes (ArcLengthSettings::stabilization); 0 = off.
+  double stabilization = 0.0;
+  int max_settling_steps = 200;
+  // Amplitude (length) of a seeded random initial displacement along the directors that breaks
+  // the symmetry of a perfectly flat sheet; 0 = none.
+  double imperfection = 0.0;
+  unsigned imperfection_seed = 1;
 };
 
 // Solves the static drape; never throws on non-convergence: the result then holds the last

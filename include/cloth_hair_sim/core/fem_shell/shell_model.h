@@ -19,8 +19,13 @@ class ShellModel : public ContinuationProblem {
   void linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
                  Eigen::SparseMatrix<double>* K) override;
   void increment(const Eigen::VectorXd& dq) override;
-  void save() override { saved_ = nodes_; }
+  void save() override;
   void restore() override { nodes_ = saved_; }
+  void setStabilization(double factor) override;
+  double lastStepMotion() const override { return last_motion_; }
+  // Seeded random displacement of the free nodes along their directors, amplitude a: the
+  // imperfection that lets a perfectly flat sheet choose its folds.
+  void perturb(double amplitude, unsigned seed);
   double loadNorm() const override { return load_norm_; }
   double lengthScale() const override { return length_scale_; }
   int activeContacts() const override { return active_contacts_; }
@@ -40,6 +45,14 @@ class ShellModel : public ContinuationProblem {
   int num_free_ = 0;
   double load_norm_ = 0.0, length_scale_ = 1.0, k_contact_ = 0.0;
   int active_contacts_ = 0;
+  struct Penalty {
+    double force, stiffness;  // magnitude along the normal and its derivative
+  };
+  Penalty penalty(double gap) const;
+
+  std::vector<double> nodal_mass_;
+  double contact_smoothing_ = 0.0;
+  double mean_edge_ = 1.0, stabilization_ = 0.0, last_motion_ = 0.0;
 };
 
 }  // namespace chs

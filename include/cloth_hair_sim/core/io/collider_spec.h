@@ -16,7 +16,7 @@ struct ColliderSpec {
   enum class Type { kPlane, kBox, kCylinder, kSphere };
   Type type = Type::kPlane;
   std::string label;  // as named in the scene: plane, table, box, pedestal, cylinder, sphere
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();   // plane: a point; sphere: centre
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    // plane: a point; sphere: centre
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // plane: outward normal
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();  // box corners
   Eigen::Vector2d axis_xy = Eigen::Vector2d::Zero();  // cylinder axis position

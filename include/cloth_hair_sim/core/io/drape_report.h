@@ -11,7 +11,7 @@ namespace chs {
 struct ReportContext {
   std::string scene_name;
   std::string scene_file;
-  std::string method;  // fem_shell | particle
+  std::string method;                                    // fem_shell | particle
   std::vector<std::pair<std::string, double>> settings;  // solver settings, by name
   std::vector<std::pair<std::string, double>> material;  // SI values, by name
   std::vector<std::string> colliders;                    // RigidSurface::describe()

@@ -1,5 +1,4 @@
 #pragma once
-#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -7,6 +6,7 @@
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/io/collider_spec.h"
+#include "cloth_hair_sim/core/particle/particle_static_solver.h"
 
 namespace chs {
 
@@ -47,18 +47,18 @@ struct SceneOutput {
 //     {vertices: [..]}, {nearest: [x, y, z]}, {plane: {axis: x|y|z, value, tolerance}},
 //     {box: {min, max}}, {boundary: true}
 //   fem_shell: FemShellSettings fields by name
-//   particle: particle-method settings, name: number
+//   particle: ParticleSettings fields by name (numbers and restart; seams not yet), with
+//     stretch_compression and shear_compression for the network's D' and B'
 //   output: {directory, obj, ply, report, convergence, picture}
 struct Scene {
   std::string name;
   std::string file;  // the scene file, "" when parsed from text
   DrapeProblem problem;
-  std::string material_name;  // preset name, "custom", or "<preset> (modified)"
+  std::string material_name;            // preset name, "custom", or "<preset> (modified)"
   std::vector<ColliderSpec> colliders;  // problem.colliders was built from these, same order
   DrapeMethod method = DrapeMethod::kFemShell;
   FemShellSettings fem_shell;
-  // Particle-method settings by name, passed on to the particle solver, which checks the names.
-  std::map<std::string, double> particle;
+  ParticleSettings particle;
   SceneOutput output;
 };
 
@@ -71,6 +71,7 @@ Scene parseScene(const std::string& yaml_text, const std::string& base_dir,
 
 // Named values for reports.
 std::vector<std::pair<std::string, double>> settingsList(const FemShellSettings& settings);
+std::vector<std::pair<std::string, double>> settingsList(const ParticleSettings& settings);
 std::vector<std::pair<std::string, double>> materialList(const ShellMaterial& material);
 
 }  // namespace chs

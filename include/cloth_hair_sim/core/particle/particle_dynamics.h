@@ -25,8 +25,10 @@ struct ParticleDynamicsSettings {
 //
 // Clamped and pinned vertices of the problem start pinned at their reference positions; pins
 // can be added, moved and released between steps (a ROS node drives them). A pin moved to a new
-// target carries its vertex there at constant velocity over the next step. Fixed components stay
-// held. Explicit RK4 is conditionally stable: keep dt below stableTimeStep().
+// target carries its vertex there at constant velocity over the next step (a moved clamp
+// translates its held direction but does not turn it). Fixed components stay held. Seams are
+// not modelled here: sew with solveParticleStatic first and hand its positions over. Explicit RK4
+// is conditionally stable: keep dt below stableTimeStep().
 class ParticleDynamics {
  public:
   // Throws InputError for a bad problem or settings (the areal density must be positive).

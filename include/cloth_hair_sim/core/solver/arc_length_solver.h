@@ -16,6 +16,14 @@ struct ArcLengthSettings {
   int max_load_steps = 400;
   int max_cutbacks = 20;
   bool arc_length = true;
+  // Buckling drapes (folds at a table's corners) branch off the symmetric path at bifurcation
+  // points that path following steps over. With stabilization > 0 each load step is a strongly
+  // damped pseudo-time step: a viscous force -c m (x - x_n) (c = stabilization |g| / l_e per unit
+  // mass) lets the cloth leave unstable branches, as Abaqus' *STATIC, STABILIZE does. Load
+  // control is used; at lambda = 1 steps continue until the cloth stops moving, and a final
+  // Newton solve without the viscous force proves the result is a true equilibrium.
+  double stabilization = 0.0;
+  int max_settling_steps = 200;
 };
 
 struct ContinuationResult {

@@ -24,6 +24,11 @@ class ContinuationProblem {
   // Length scale of the model, to recognise a runaway increment.
   virtual double lengthScale() const = 0;
   virtual int activeContacts() const { return 0; }
+  // Viscous stabilisation of the load steps (see ArcLengthSettings::stabilization): adds
+  // -c m (x - x_saved) to R. A problem without it ignores the call.
+  virtual void setStabilization(double /*factor*/) {}
+  // Largest nodal motion between the last two save() calls: tells when stabilised steps settle.
+  virtual double lastStepMotion() const { return 0.0; }
 };
 
 }  // namespace chs
