@@ -107,10 +107,12 @@ std::string BoxSurface::describe() const {
 }
 
 CylinderSurface::CylinderSurface(const Eigen::Vector2d& center_xy, double radius, double z_bottom,
-                                 double z_top)
-    : c_(center_xy), r_(radius), zb_(z_bottom), zt_(z_top) {
+                                 double z_top, double edge_radius)
+    : c_(center_xy), r_(radius), zb_(z_bottom), zt_(z_top - edge_radius), edge_(edge_radius) {
   if (!(radius > 0.0) || !(z_top > z_bottom) || !center_xy.allFinite())
     throw InputError("cylinder: needs radius > 0 and z_top > z_bottom");
+  if (!(edge_radius >= 0.0) || zt_ <= zb_)
+    throw InputError("cylinder: edge radius must be >= 0 and below the height");
 }
 
 SurfaceProjection CylinderSurface::project(const Eigen::Vector3d& x) const {
@@ -125,7 +127,7 @@ SurfaceProjection CylinderSurface::project(const Eigen::Vector3d& x) const {
     // side wall it slides vertically and around the rim (curvature 1/rho in the hoop direction).
     if (rho <= r_) {
       SurfaceProjection p;
-      p.gap = x.z() > zt_ ? x.z() - zt_ : zb_ - x.z();
+      p.gap = (x.z() > zt_ ? x.z() - zt_ : zb_ - x.z()) - edge_;
       p.normal = Eigen::Vector3d(0.0, 0.0, x.z() > zt_ ? 1.0 : -1.0);
       return p;
     }
@@ -134,7 +136,7 @@ SurfaceProjection CylinderSurface::project(const Eigen::Vector3d& x) const {
     // The rim point moves around the hoop at rate r/rho per unit tangential motion of x.
     sliding += (r_ / rho) * hoop * hoop.transpose();
     if (zc == x.z()) sliding(2, 2) = 1.0;
-    return fromClosestPoint(x, c, sliding);
+    return fromClosestPoint(x, c, sliding, edge_);
   }
   // Inside: nearest of top, bottom and side.
   SurfaceProjection p;
@@ -148,12 +150,13 @@ SurfaceProjection CylinderSurface::project(const Eigen::Vector3d& x) const {
     p.gap = rho - r_;
     p.normal = Eigen::Vector3d(er.x(), er.y(), 0.0);
   }
+  p.gap -= edge_;
   return p;
 }
 
 std::string CylinderSurface::describe() const {
   std::ostringstream s;
-  s << "cylinder r=" << r_ << " z=[" << zb_ << ", " << zt_ << "]";
+  s << "cylinder r=" << r_ << " z=[" << zb_ << ", " << zt_ + edge_ << "] edge radius " << edge_;
   return s.str();
 }
 

@@ -12,9 +12,9 @@ std::shared_ptr<const RigidSurface> ColliderSpec::makeSurface() const {
     case Type::kPlane:
       return std::make_shared<PlaneSurface>(point, normal);
     case Type::kBox:
-      return std::make_shared<BoxSurface>(lo, hi);
+      return std::make_shared<BoxSurface>(lo, hi, edge_radius);
     case Type::kCylinder:
-      return std::make_shared<CylinderSurface>(axis_xy, radius, z_bottom, z_top);
+      return std::make_shared<CylinderSurface>(axis_xy, radius, z_bottom, z_top, edge_radius);
     case Type::kSphere:
       return std::make_shared<SphereSurface>(point, radius);
   }

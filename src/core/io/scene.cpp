@@ -267,6 +267,13 @@ ShellMaterial parseMaterial(const YAML::Node& node, std::string& name) {
   return m;
 }
 
+// Edge rounding of tables, boxes and pedestals (m): optional key edge_radius.
+double edgeRadius(Section& s, double fallback) {
+  const double r = s.number("edge_radius", fallback);
+  if (!(r >= 0.0)) fail(s.key("edge_radius"), "must not be negative (m)");
+  return r;
+}
+
 ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
   if (!node.IsMap() || node.size() != 1)
     fail(key,
@@ -291,11 +298,14 @@ ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
     if (!(size.minCoeff() > 0.0)) fail(s.key("size"), "must be positive");
     c.lo = top - Eigen::Vector3d(size.x() / 2, size.y() / 2, depth);
     c.hi = top + Eigen::Vector3d(size.x() / 2, size.y() / 2, 0.0);
+    // Real table edges are rounded; a sharp one lets node contact push cloth off sideways.
+    c.edge_radius = edgeRadius(s, std::min({size.minCoeff() / 100.0, depth / 2, 1e-3}));
   } else if (kind == "box") {
     c.type = ColliderSpec::Type::kBox;
     c.lo = s.vector("min", 3);
     c.hi = s.vector("max", 3);
     if ((c.hi.array() <= c.lo.array()).any()) fail(s.key("max"), "must exceed min in x, y and z");
+    c.edge_radius = edgeRadius(s, 0.0);
   } else if (kind == "pedestal" || kind == "cylinder") {  // vertical, given by its top face
     c.type = ColliderSpec::Type::kCylinder;
     const Eigen::Vector3d top = s.vector3("top_centre", Eigen::Vector3d::Zero());
@@ -304,6 +314,7 @@ ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
     c.axis_xy = top.head<2>();
     c.z_top = top.z();
     c.z_bottom = top.z() - depth;
+    c.edge_radius = edgeRadius(s, std::min({c.radius / 100.0, depth / 2, 1e-3}));
   } else {
     c.type = ColliderSpec::Type::kSphere;
     c.point = s.vector3("centre", Eigen::Vector3d::Zero());
@@ -436,6 +447,12 @@ FemShellSettings parseFemShell(const YAML::Node& node) {
   if (f.contact_stiffness < 0.0)
     fail(s.key("contact_stiffness"), "must not be negative (0 picks one)");
   f.arc_length = s.boolean("arc_length", f.arc_length);
+  f.stabilization = s.number("stabilization", f.stabilization);
+  if (f.stabilization < 0.0) fail(s.key("stabilization"), "must not be negative (0 = off)");
+  f.max_settling_steps = s.integer("max_settling_steps", f.max_settling_steps, 0);
+  f.imperfection = s.number("imperfection", f.imperfection);
+  if (f.imperfection < 0.0) fail(s.key("imperfection"), "must not be negative (m)");
+  f.imperfection_seed = static_cast<unsigned>(s.integer("imperfection_seed", 1, 0));
   s.done();
   if (f.tolerance >= 1.0) fail(s.key("tolerance"), "must be below 1 (a relative residual)");
   if (f.initial_load_increment > f.max_load_increment)
@@ -567,7 +584,11 @@ std::vector<std::pair<std::string, double>> settingsList(const FemShellSettings&
           {"max_load_steps", s.max_load_steps},
           {"max_cutbacks", s.max_cutbacks},
           {"contact_stiffness", s.contact_stiffness},
-          {"arc_length", s.arc_length ? 1.0 : 0.0}};
+          {"arc_length", s.arc_length ? 1.0 : 0.0},
+          {"stabilization", s.stabilization},
+          {"max_settling_steps", s.max_settling_steps},
+          {"imperfection", s.imperfection},
+          {"imperfection_seed", static_cast<double>(s.imperfection_seed)}};
 }
 
 std::vector<std::pair<std::string, double>> settingsList(const ParticleSettings& s) {

@@ -54,17 +54,18 @@ class BoxSurface : public RigidSurface {
   double radius_;
 };
 
-// Solid vertical cylinder (a disc pedestal): axis along z through (cx, cy), radius r,
-// between z_bottom and z_top; sharp rim.
+// Solid vertical cylinder (a disc pedestal): axis along z through (cx, cy); the flat top disc of
+// radius r lies at z_top, and the rim is rounded with edge_radius beyond it, as for BoxSurface.
 class CylinderSurface : public RigidSurface {
  public:
-  CylinderSurface(const Eigen::Vector2d& center_xy, double radius, double z_bottom, double z_top);
+  CylinderSurface(const Eigen::Vector2d& center_xy, double radius, double z_bottom, double z_top,
+                  double edge_radius = 0.0);
   SurfaceProjection project(const Eigen::Vector3d& x) const override;
   std::string describe() const override;
 
  private:
   Eigen::Vector2d c_;
-  double r_, zb_, zt_;
+  double r_, zb_, zt_, edge_;  // zt_: top of the inner cylinder that grown by edge_ is the solid
 };
 
 class SphereSurface : public RigidSurface {

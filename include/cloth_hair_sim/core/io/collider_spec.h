@@ -22,6 +22,7 @@ struct ColliderSpec {
   Eigen::Vector2d axis_xy = Eigen::Vector2d::Zero();  // cylinder axis position
   double radius = 0.0;                                // cylinder, sphere
   double z_bottom = 0.0, z_top = 0.0;                 // cylinder
+  double edge_radius = 0.0;                           // box, cylinder: rounded edges
 
   std::shared_ptr<const RigidSurface> makeSurface() const;
 };
