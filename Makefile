@@ -29,3 +29,15 @@ format:
 
 clean:
 	rm -rf $(BUILD) $(DEMO_OUT)
+
+# Benchmarks, run by hand (never by ctest): builds bench/*.cpp and writes the results to
+# $(BENCH_OUT)/<name>.json and .txt. BENCH_ARGS passes Google Benchmark flags, e.g.
+# BENCH_ARGS=--benchmark_filter=Tablecloth.
+BENCH_OUT ?= $(BUILD)/bench_results
+.PHONY: bench
+bench:
+	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
+	cmake --build $(BUILD) -j$(JOBS) --target drape_benchmarks
+	mkdir -p $(BENCH_OUT)
+	$(BIN)/drape_benchmarks --benchmark_out=$(BENCH_OUT)/drape_benchmarks.json \
+	  --benchmark_out_format=json $(BENCH_ARGS) | tee $(BENCH_OUT)/drape_benchmarks.txt

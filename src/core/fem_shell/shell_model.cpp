@@ -1,5 +1,6 @@
 #include "cloth_hair_sim/core/fem_shell/shell_model.h"
 
+#include <algorithm>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -80,6 +81,7 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
     for (int I = 0; I < 4; ++I) edges += (mesh.vertices[q[I]] - mesh.vertices[q[(I + 1) % 4]]).norm();
   mean_edge_ = mesh.quads.empty() ? 1.0 : edges / (4.0 * mesh.numQuads());
   contact_smoothing_ = 1e-4 * mean_edge_;
+  buildPattern();
   saved_ = nodes_;
   // Penalty k_c: a hundred times the membrane stiffness E h keeps penetration a fraction of the
   // strains while leaving the tangent well conditioned for the direct solver.
@@ -87,13 +89,52 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
                                        : 100.0 * problem.material.young * problem.material.thickness;
 }
 
+void ShellModel::buildPattern() {
+  std::vector<Eigen::Triplet<double>> trip;
+  auto free = [&](int v, int k) { return dof_[5 * v + k]; };
+  for (const auto& el : elements_)
+    for (int a = 0; a < 20; ++a)
+      for (int b = 0; b < 20; ++b) {
+        const int r = free(el.nodes()[a / 5], a % 5), c = free(el.nodes()[b / 5], b % 5);
+        if (r >= 0 && c >= 0) trip.emplace_back(r, c, 0.0);
+      }
+  const int nv = static_cast<int>(nodes_.size());
+  for (int v = 0; v < nv; ++v)
+    for (int a = 0; a < 5; ++a)
+      for (int b = 0; b < 5; ++b)
+        if (free(v, a) >= 0 && free(v, b) >= 0) trip.emplace_back(free(v, a), free(v, b), 0.0);
+  pattern_.resize(num_free_, num_free_);
+  pattern_.setFromTriplets(trip.begin(), trip.end());
+  pattern_.makeCompressed();
+  // Position of (r, c) in the compressed column-major storage.
+  auto slot = [&](int r, int c) -> int {
+    if (r < 0 || c < 0) return -1;
+    const int* rows = pattern_.innerIndexPtr();
+    const int begin = pattern_.outerIndexPtr()[c], end = pattern_.outerIndexPtr()[c + 1];
+    return static_cast<int>(std::lower_bound(rows + begin, rows + end, r) - rows);
+  };
+  element_slots_.resize(elements_.size());
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const auto& q = elements_[e].nodes();
+    for (int a = 0; a < 20; ++a)
+      for (int b = 0; b < 20; ++b)
+        element_slots_[e][a * 20 + b] = slot(free(q[a / 5], a % 5), free(q[b / 5], b % 5));
+  }
+  node_slots_.resize(nv);
+  for (int v = 0; v < nv; ++v)
+    for (int a = 0; a < 5; ++a)
+      for (int b = 0; b < 5; ++b) node_slots_[v][a * 5 + b] = slot(free(v, a), free(v, b));
+}
+
 void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
                            Eigen::SparseMatrix<double>* K) {
   const int nv = static_cast<int>(nodes_.size());
   R.setZero(num_free_);
   F0.setZero(num_free_);
-  std::vector<ElementVector> fe(elements_.size());
-  std::vector<ElementMatrix> Ke(K ? elements_.size() : 0);
+  auto& fe = element_force_;
+  auto& Ke = element_tangent_;
+  fe.resize(elements_.size());
+  if (K) Ke.resize(elements_.size());
   tbb::parallel_for(std::size_t(0), elements_.size(), [&](std::size_t e) {
     const auto& q = elements_[e].nodes();
     const std::array<const ShellNode*, 4> st = {&nodes_[q[0]], &nodes_[q[1]], &nodes_[q[2]],
@@ -101,20 +142,23 @@ void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F
     elements_[e].evaluate(st, fe[e], K ? &Ke[e] : nullptr);
   });
 
-  std::vector<Eigen::Triplet<double>> trip;
-  if (K) trip.reserve(elements_.size() * 400 + nv * 25);
+  double* kv = nullptr;
+  if (K) {
+    if (K->nonZeros() != pattern_.nonZeros() || K->rows() != num_free_) *K = pattern_;
+    kv = K->valuePtr();
+    std::fill(kv, kv + K->nonZeros(), 0.0);
+  }
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const auto& q = elements_[e].nodes();
     for (int a = 0; a < 20; ++a) {
       const int ra = dof_[5 * q[a / 5] + a % 5];
-      if (ra < 0) continue;
-      R[ra] -= fe[e][a];  // -P, eq. (75)
-      if (!K) continue;
-      for (int b = 0; b < 20; ++b) {
-        const int cb = dof_[5 * q[b / 5] + b % 5];
-        if (cb >= 0) trip.emplace_back(ra, cb, Ke[e](a, b));
-      }
+      if (ra >= 0) R[ra] -= fe[e][a];  // -P, eq. (75)
     }
+    if (!K) continue;
+    const auto& slots = element_slots_[e];
+    for (int a = 0; a < 20; ++a)
+      for (int b = 0; b < 20; ++b)
+        if (slots[a * 20 + b] >= 0) kv[slots[a * 20 + b]] += Ke[e](a, b);
   }
 
   active_contacts_ = 0;
@@ -153,15 +197,9 @@ void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F
       F0[ra] = load[a];
       R[ra] += lambda * load[a] + (a < 3 ? fc[a] : 0.0);
       if (!K) continue;
-      for (int b = 0; b < 5; ++b) {
-        const int cb = dof_[5 * v + b];
-        if (cb >= 0) trip.emplace_back(ra, cb, Kn(a, b));
-      }
+      for (int b = 0; b < 5; ++b)
+        if (node_slots_[v][a * 5 + b] >= 0) kv[node_slots_[v][a * 5 + b]] += Kn(a, b);
     }
-  }
-  if (K) {
-    K->resize(num_free_, num_free_);
-    K->setFromTriplets(trip.begin(), trip.end());
   }
 }
 
@@ -174,13 +212,6 @@ ShellModel::Penalty ShellModel::penalty(double gap) const {
   if (p <= 0.0) return {0.0, 0.0};
   if (p >= delta) return {k_contact_ * (p - 0.5 * delta), k_contact_};
   return {0.5 * k_contact_ * p * p / delta, k_contact_ * p / delta};
-}
-
-void ShellModel::save() {
-  last_motion_ = 0.0;
-  for (std::size_t v = 0; v < nodes_.size(); ++v)
-    last_motion_ = std::max(last_motion_, (nodes_[v].position - saved_[v].position).norm());
-  saved_ = nodes_;
 }
 
 void ShellModel::setStabilization(double factor) { stabilization_ = factor; }

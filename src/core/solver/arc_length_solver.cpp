@@ -139,6 +139,23 @@ class StepRunner {
     delta_ *= alpha;
   }
 
+  // One pseudo-transient Newton iteration at lam from the saved state, where the viscous force
+  // vanishes: res_ is the true residual there. Returns false on a singular tangent.
+  bool ptcIteration(int step, int it, double lam) {
+    p_.linearize(lam, R_, F0_, &K_);
+    res_ = R_.norm() / p_.loadNorm();
+    ProgressEvent e{step, lam, it, res_, p_.activeContacts()};
+    out_.history.push_back(e);
+    if (progress_) progress_(e);
+    if (res_ <= s_.tolerance) return true;
+    if (!lu_.factorize(K_) || !lu_.solve(R_, delta_) ||
+        delta_.lpNorm<Eigen::Infinity>() > 10.0 * p_.lengthScale())
+      return false;
+    p_.increment(delta_);
+    ++out_.iterations;
+    return true;
+  }
+
   int iterations() const { return iterations_; }
   double residual() const { return res_; }
 
@@ -178,16 +195,11 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
   double load_step = s.initial_load_increment;
   bool onto_one = false;  // load control onto lambda = 1 after the arc overshot it
   int settling = 0;
-  double last_motion = 0.0;
   bool failed = false;
   problem.save();
 
   while (!failed) {
-    const bool settle = lambda >= 1.0;
-    if (settle && (!stabilized || stab_scale < 1e-6 ||
-                   problem.lastStepMotion() < 1e-9 * problem.lengthScale() ||
-                   settling >= s.max_settling_steps))
-      break;
+    if (lambda >= 1.0) break;
     if (out.load_steps >= s.max_load_steps) {
       std::ostringstream msg;
       msg << "stopped after " << s.max_load_steps << " load steps at load factor " << lambda;
@@ -203,12 +215,10 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
       break;
     }
     if (arc == 0.0) arc = s.initial_load_increment * uI.norm();  // step 3.4: Delta s
-    bool on_arc = arc_length && !onto_one && !settle;
+    bool on_arc = arc_length && !onto_one;
     double dlam = on_arc ? arc / uI.norm() : (onto_one ? 1.0 - lambda : load_step);  // step 3.5
     dlam = std::min(dlam, s.max_load_increment);
-    if (settle) {
-      dlam = 0.0;
-    } else if (lambda + dlam >= 1.0) {
+    if (lambda + dlam >= 1.0) {
       dlam = 1.0 - lambda;
       on_arc = false;
     }
@@ -226,7 +236,6 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
       lambda = on_arc ? lam : lambda + dlam;
       if (!on_arc && std::abs(lambda - 1.0) < 1e-12) lambda = 1.0;
       ++out.load_steps;
-      if (settle) ++settling;
       out.residual = runner.residual();
       // Eq. (20): gamma_n = N_p / N_{n-1}, applied cumulatively to the arc length and bounded to
       // [1/2, 2] so that one easy step cannot throw the next one far past a limit point.
@@ -234,16 +243,7 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
           static_cast<double>(s.target_iterations) / std::max(runner.iterations(), 1), 0.5, 2.0);
       arc *= gamma;
       load_step = std::min(load_step * gamma, s.max_load_increment);
-      if (stabilized && settle) {
-        // Pseudo-transient continuation with switched evolution relaxation: the damping follows
-        // the step motion (the viscous residual), so it fades as the cloth comes to rest and the
-        // last steps are plain Newton steps (Kelley and Keyes 1998).
-        const double motion = problem.lastStepMotion();
-        if (last_motion > 0.0)
-          stab_scale *= std::clamp(motion / last_motion, 0.1, 4.0);
-        last_motion = motion;
-        problem.setStabilization(s.stabilization * stab_scale);
-      } else if (stabilized && stab_scale > 1.0) {
+      if (stabilized && stab_scale > 1.0) {
         stab_scale = std::max(1.0, stab_scale / gamma);
         problem.setStabilization(s.stabilization * stab_scale);
       }
@@ -273,16 +273,36 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
   if (failed) return out;
 
   if (stabilized) {
-    // The viscous force has vanished to round-off; verify equilibrium without it.
-    problem.setStabilization(0.0);
-    double lam = 1.0;
+    // Pseudo-transient continuation at lambda = 1 (Kelley and Keyes 1998): one Newton iteration
+    // per pseudo-time step, damped by the viscous term anchored at the current state, with
+    // switched evolution relaxation c_{k+1} = c_k r_k / r_{k-1}: the damping fades as the
+    // residual falls, so the last iterations are plain Newton and converge quadratically.
     const int step = out.load_steps + 1;
-    if (!runner.predictorDirection(1.0, uI) ||
-        runner.run(step, 1.0, 0.0, uI, false, 0.0, lam) != Outcome::kConverged) {
+    double previous = 0.0;
+    bool settled = false;
+    for (; settling < s.max_settling_steps; ++settling) {
+      problem.save();  // anchor: the residual evaluated here is the unstabilised one
+      problem.setStabilization(s.stabilization * stab_scale);
+      const bool ok = runner.ptcIteration(step, settling, 1.0);
+      const double r = runner.residual();
+      if (r <= s.tolerance) {
+        settled = true;
+        break;
+      }
+      if (!ok) {  // singular or runaway: back to the anchor with more damping
+        problem.restore();
+        stab_scale *= 4.0;
+        continue;
+      }
+      if (previous > 0.0) stab_scale *= std::clamp(r / previous, 0.1, 4.0);
+      previous = r;
+    }
+    problem.setStabilization(0.0);
+    if (!settled) {
       problem.restore();
-      out.status = "the stabilised drape settled after " + std::to_string(settling) +
-                   " steps, but Newton without stabilisation did not converge from it (residual " +
-                   std::to_string(runner.residual()) + "); returning the stabilised state";
+      out.status = "the stabilised drape did not settle to equilibrium in " +
+                   std::to_string(settling) + " pseudo-time steps (residual " +
+                   std::to_string(runner.residual()) + "); returning its last state";
       return out;
     }
     problem.save();

@@ -19,10 +19,9 @@ class ShellModel : public ContinuationProblem {
   void linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
                  Eigen::SparseMatrix<double>* K) override;
   void increment(const Eigen::VectorXd& dq) override;
-  void save() override;
+  void save() override { saved_ = nodes_; }
   void restore() override { nodes_ = saved_; }
   void setStabilization(double factor) override;
-  double lastStepMotion() const override { return last_motion_; }
   // Seeded random displacement of the free nodes along their directors, amplitude a: the
   // imperfection that lets a perfectly flat sheet choose its folds.
   void perturb(double amplitude, unsigned seed);
@@ -50,9 +49,20 @@ class ShellModel : public ContinuationProblem {
   };
   Penalty penalty(double gap) const;
 
+  // Fixed sparsity pattern of K and, per element and per node, where each entry lands in it
+  // (-1 for constrained unknowns): assembly adds in place instead of sorting triplets.
+  void buildPattern();
+  Eigen::SparseMatrix<double> pattern_;
+  std::vector<std::array<int, 400>> element_slots_;
+  std::vector<std::array<int, 25>> node_slots_;
+
+  // Element results, kept between calls so that each iteration does not allocate them anew.
+  std::vector<ElementVector> element_force_;
+  std::vector<ElementMatrix> element_tangent_;
+
   std::vector<double> nodal_mass_;
   double contact_smoothing_ = 0.0;
-  double mean_edge_ = 1.0, stabilization_ = 0.0, last_motion_ = 0.0;
+  double mean_edge_ = 1.0, stabilization_ = 0.0;
 };
 
 }  // namespace chs

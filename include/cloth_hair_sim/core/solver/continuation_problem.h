@@ -27,8 +27,6 @@ class ContinuationProblem {
   // Viscous stabilisation of the load steps (see ArcLengthSettings::stabilization): adds
   // -c m (x - x_saved) to R. A problem without it ignores the call.
   virtual void setStabilization(double /*factor*/) {}
-  // Largest nodal motion between the last two save() calls: tells when stabilised steps settle.
-  virtual double lastStepMotion() const { return 0.0; }
 };
 
 }  // namespace chs
