@@ -77,7 +77,9 @@ void femDrape(benchmark::State& state, const char* scene_file) {
   }
 }
 
-void BM_TableclothFem(benchmark::State& state) { femDrape(state, "tablecloth_fem.yaml"); }
+void BM_TableclothFem(benchmark::State& state) {
+  femDrape(state, "tablecloth_fem.yaml");
+}
 BENCHMARK(BM_TableclothFem)
     ->Arg(1)
     ->Arg(2)
@@ -87,7 +89,9 @@ BENCHMARK(BM_TableclothFem)
     ->MeasureProcessCPUTime()
     ->Unit(benchmark::kSecond);
 
-void BM_Pedestal48Fem(benchmark::State& state) { femDrape(state, "pedestal_square_48.yaml"); }
+void BM_Pedestal48Fem(benchmark::State& state) {
+  femDrape(state, "pedestal_square_48.yaml");
+}
 BENCHMARK(BM_Pedestal48Fem)
     ->Arg(2)
     ->ArgName("threads")

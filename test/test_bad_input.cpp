@@ -59,11 +59,13 @@ std::string inputError(const Solve& solve, const chs::DrapeProblem& p) {
 
 // Both solvers reject the problem with a message containing every one of the words.
 void expectRejected(const chs::DrapeProblem& p, std::initializer_list<std::string> words) {
-  for (const auto& [name, solve] : {std::pair{"fem_shell", kFem}, std::pair{"particle", kParticle}}) {
+  for (const auto& [name, solve] :
+       {std::pair{"fem_shell", kFem}, std::pair{"particle", kParticle}}) {
     SCOPED_TRACE(name);
     const std::string msg = inputError(solve, p);
     ASSERT_FALSE(msg.empty()) << "no InputError";
-    for (const auto& w : words) EXPECT_NE(msg.find(w), std::string::npos) << "missing '" << w << "'";
+    for (const auto& w : words)
+      EXPECT_NE(msg.find(w), std::string::npos) << "missing '" << w << "'";
   }
 }
 
@@ -90,8 +92,8 @@ TEST(BadInput, Material) {
 }
 
 TEST(BadInput, NonFiniteVertex) {
-  for (double bad : {std::numeric_limits<double>::quiet_NaN(),
-                     std::numeric_limits<double>::infinity()}) {
+  for (double bad :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     auto p = cantilever();
     p.mesh.vertices[7].y() = bad;
     expectRejected(p, {"vertex 7", "non-finite"});
@@ -137,26 +139,29 @@ void expectNoSupportRejected(const Solve& solve) {
       << msg;
 }
 
-TEST(BadInput, NoSupportFem) { expectNoSupportRejected(kFem); }
+TEST(BadInput, NoSupportFem) {
+  expectNoSupportRejected(kFem);
+}
 
 // Known bug: only the FEM ShellModel checks for support; the particle solver lets the sheet fall
 // for 500000 iterations (~650 m) and returns converged = false with a status that does not name
 // the cause. The check belongs in DrapeProblem::validate(), which both solvers call.
-TEST(BadInput, NoSupportParticle) { expectNoSupportRejected(kParticle); }
+TEST(BadInput, NoSupportParticle) {
+  expectNoSupportRejected(kParticle);
+}
 
 // A sheet centred on a small frictionless table with no boundary condition at all. The contact
-// normal holds the vertical motion and the tilts, but nothing holds the in-plane translations
-// and the spin about z: the equilibrium is not unique and the FEM tangent is singular in those
-// three rigid-body modes. Gravity has no in-plane component, so the exact solution only lacks
-// uniqueness; the correct behaviour is to either converge to a finite, symmetric-enough drape
-// (the viscous stabilisation pins the modes while settling) or to report non-convergence naming
-// the rigid-body mode. Never a crash, NaN positions or a silent "converged" with garbage.
-TEST(BadInput, FrictionlessTableWithoutInPlaneRestraint) {
+// normal holds the vertical motion and the tilts; the in-plane translations and the spin about z
+// are held only where the sheet drapes over the rounded table edges, whose normals turn
+// horizontal. So the drape of an overhanging sheet is determinate, and converging to a finite
+// drape that stays centred on the table is the correct behaviour (a status naming a rigid-body
+// mode would be wrong here).
+TEST(BadInput, FrictionlessTableOverhangConverges) {
   chs::DrapeProblem p;
   p.mesh = chs::makeRectangleMesh(0.1, 0.1, 6, 6);
   p.material = cantilever().material;
-  p.colliders.push_back(std::make_shared<chs::BoxSurface>(Vec3(-0.02, -0.02, -0.1),
-                                                          Vec3(0.02, 0.02, 0.0), 0.002));
+  p.colliders.push_back(
+      std::make_shared<chs::BoxSurface>(Vec3(-0.02, -0.02, -0.1), Vec3(0.02, 0.02, 0.0), 0.002));
   chs::FemShellSettings s;
   s.stabilization = 10.0;
   const chs::DrapeResult r = chs::solveFemShell(p, s);
@@ -164,14 +169,37 @@ TEST(BadInput, FrictionlessTableWithoutInPlaneRestraint) {
             << r.status << std::endl;
   ASSERT_EQ(r.positions.size(), p.mesh.vertices.size());
   for (const auto& x : r.positions) ASSERT_TRUE(x.allFinite());
+  EXPECT_TRUE(r.converged) << r.status;
+  const Vec3 centre = r.positions[chs::nearestVertex(p.mesh, Vec3::Zero())];
+  std::cout << "  centre vertex at " << centre.transpose() << std::endl;
+  EXPECT_LT(centre.head<2>().norm(), 1e-3) << "slid on the table";
+  // On the top, not through it; the coarse sheet may bulge a little (0.7 mm seen) where the
+  // drape compresses it.
+  EXPECT_GT(centre.z(), -1e-4);
+  EXPECT_LT(centre.z(), 5e-3);
+}
+
+// A sheet lying wholly on a larger frictionless table, no boundary condition: nothing at all
+// holds the in-plane translations and the spin, the tangent is singular in those three modes.
+// The flat sheet is an equilibrium (any in-plane placement), so either converging there or
+// failing with a status that names the rigid-body mode is acceptable; a bare "no convergence"
+// is not, because it leaves the user nothing to fix. Without stabilisation the FEM currently
+// fails at load factor 0 with "no convergence after 20 arc-length cutbacks" (known bug).
+TEST(BadInput, FrictionlessTableNoOverhangUnstabilised) {
+  chs::DrapeProblem p;
+  p.mesh = chs::makeRectangleMesh(0.1, 0.1, 6, 6);
+  p.material = cantilever().material;
+  p.colliders.push_back(
+      std::make_shared<chs::BoxSurface>(Vec3(-0.1, -0.1, -0.1), Vec3(0.1, 0.1, 0.0), 0.002));
+  const chs::DrapeResult r = chs::solveFemShell(p, {});
+  std::cout << "  converged " << r.converged << ", load factor " << r.load_factor << ": "
+            << r.status << std::endl;
+  ASSERT_EQ(r.positions.size(), p.mesh.vertices.size());
+  for (const auto& x : r.positions) ASSERT_TRUE(x.allFinite());
   if (r.converged) {
-    // Whatever rigid motion the solve picked, the sheet stays on the table: its centre vertex
-    // near the table top, nothing flung away.
-    const Vec3 centre = r.positions[chs::nearestVertex(p.mesh, Vec3::Zero())];
-    EXPECT_LT(centre.head<2>().norm(), 0.02) << "slid off the table";
-    EXPECT_NEAR(centre.z(), 0.0, 0.005);
+    for (const auto& x : r.positions) EXPECT_NEAR(x.z(), 0.0, 1e-4);
   } else {
-    EXPECT_TRUE(r.status.find("rigid") != std::string::npos) << r.status;
+    EXPECT_NE(r.status.find("rigid"), std::string::npos) << r.status;
   }
 }
 
@@ -296,8 +324,8 @@ TEST_F(DrapeToolBadInput, NotConvergedExitsTwoAndWritesResults) {
 }
 
 TEST_F(DrapeToolBadInput, MissingMeshFile) {
-  const fs::path scene = write("missing.yaml",
-                               "garment: {file: no_such_mesh.obj}\nmaterial: cotton_eischen\n");
+  const fs::path scene =
+      write("missing.yaml", "garment: {file: no_such_mesh.obj}\nmaterial: cotton_eischen\n");
   const ToolRun r = run(scene);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("no_such_mesh.obj"), std::string::npos);
@@ -321,11 +349,11 @@ TEST_F(DrapeToolBadInput, GarbageSceneFile) {
 }
 
 TEST_F(DrapeToolBadInput, BadMaterialInScene) {
-  const fs::path scene = write(
-      "bad_young.yaml",
-      "garment: {rectangle: {size: [0.1, 0.1], cells: [4, 4]}}\n"
-      "material: {young: -5, poisson: 0.3, thickness: 1.0e-3, areal_density: 0.1}\n"
-      "boundary: {clamped: {plane: {axis: x, value: -0.05, tolerance: 1.0e-9}}}\n");
+  const fs::path scene =
+      write("bad_young.yaml",
+            "garment: {rectangle: {size: [0.1, 0.1], cells: [4, 4]}}\n"
+            "material: {young: -5, poisson: 0.3, thickness: 1.0e-3, areal_density: 0.1}\n"
+            "boundary: {clamped: {plane: {axis: x, value: -0.05, tolerance: 1.0e-9}}}\n");
   const ToolRun r = run(scene);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("young"), std::string::npos);

@@ -81,6 +81,7 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
     for (int I = 0; I < 4; ++I) edges += (mesh.vertices[q[I]] - mesh.vertices[q[(I + 1) % 4]]).norm();
   mean_edge_ = mesh.quads.empty() ? 1.0 : edges / (4.0 * mesh.numQuads());
   contact_smoothing_ = 1e-4 * mean_edge_;
+  anchor_ = nodes_;
   buildPattern();
   saved_ = nodes_;
   // Penalty k_c: a hundred times the membrane stiffness E h keeps penetration a fraction of the
@@ -178,7 +179,7 @@ void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F
     Kn.bottomRightCorner<2, 2>() = -lambda * L.transpose() * skew(moment_[v]) * L;
     Eigen::Vector3d fc = Eigen::Vector3d::Zero();
     if (stab > 0.0) {  // viscous pseudo-time term, -c m (x - x_n)
-      fc -= stab * nodal_mass_[v] * (node.position - saved_[v].position);
+      fc -= stab * nodal_mass_[v] * (node.position - anchor_[v].position);
       Kn.topLeftCorner<3, 3>() += stab * nodal_mass_[v] * Eigen::Matrix3d::Identity();
     }
     // Penalty contact, eqs. (33)-(35), active where the node penetrates.
@@ -223,7 +224,7 @@ void ShellModel::perturb(double amplitude, unsigned seed) {
     const double a = u(rng);
     if (dof_[5 * v + 2] >= 0) nodes_[v].position += a * nodes_[v].frame.director();
   }
-  saved_ = nodes_;
+  saved_ = anchor_ = nodes_;
 }
 
 void ShellModel::increment(const Eigen::VectorXd& dq) {

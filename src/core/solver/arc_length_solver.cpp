@@ -139,14 +139,20 @@ class StepRunner {
     delta_ *= alpha;
   }
 
-  // One pseudo-transient Newton iteration at lam from the saved state, where the viscous force
-  // vanishes: res_ is the true residual there. Returns false on a singular tangent.
-  bool ptcIteration(int step, int it, double lam) {
+  // One pseudo-transient Newton iteration at lam, anchored at the current state where the
+  // viscous force vanishes: res_ is the true residual there. The state is saved first when it is
+  // the best so far. Returns false on a singular tangent or a runaway increment.
+  bool ptcIteration(int step, int it, double lam, double& best) {
+    p_.anchorHere();
     p_.linearize(lam, R_, F0_, &K_);
     res_ = R_.norm() / p_.loadNorm();
     ProgressEvent e{step, lam, it, res_, p_.activeContacts()};
     out_.history.push_back(e);
     if (progress_) progress_(e);
+    if (res_ < best) {
+      best = res_;
+      p_.save();
+    }
     if (res_ <= s_.tolerance) return true;
     if (!lu_.factorize(K_) || !lu_.solve(R_, delta_) ||
         delta_.lpNorm<Eigen::Infinity>() > 10.0 * p_.lengthScale())
@@ -277,21 +283,23 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
     // per pseudo-time step, damped by the viscous term anchored at the current state, with
     // switched evolution relaxation c_{k+1} = c_k r_k / r_{k-1}: the damping fades as the
     // residual falls, so the last iterations are plain Newton and converge quadratically.
+    // A step that fails or lets the residual grow a thousandfold past the best one restarts from the
+    // best state with ten times the damping.
     const int step = out.load_steps + 1;
-    double previous = 0.0;
+    double previous = 0.0, best = HUGE_VAL;
     bool settled = false;
     for (; settling < s.max_settling_steps; ++settling) {
-      problem.save();  // anchor: the residual evaluated here is the unstabilised one
       problem.setStabilization(s.stabilization * stab_scale);
-      const bool ok = runner.ptcIteration(step, settling, 1.0);
+      const bool ok = runner.ptcIteration(step, settling, 1.0, best);
       const double r = runner.residual();
       if (r <= s.tolerance) {
         settled = true;
         break;
       }
-      if (!ok) {  // singular or runaway: back to the anchor with more damping
+      if (!ok || r > 1e3 * std::max(best, s.tolerance)) {
         problem.restore();
-        stab_scale *= 4.0;
+        stab_scale *= 10.0;
+        previous = 0.0;
         continue;
       }
       if (previous > 0.0) stab_scale *= std::clamp(r / previous, 0.1, 4.0);
@@ -299,7 +307,7 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
     }
     problem.setStabilization(0.0);
     if (!settled) {
-      problem.restore();
+      problem.restore();  // the state of least residual
       out.status = "the stabilised drape did not settle to equilibrium in " +
                    std::to_string(settling) + " pseudo-time steps (residual " +
                    std::to_string(runner.residual()) + "); returning its last state";

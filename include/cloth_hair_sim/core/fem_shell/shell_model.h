@@ -19,9 +19,10 @@ class ShellModel : public ContinuationProblem {
   void linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
                  Eigen::SparseMatrix<double>* K) override;
   void increment(const Eigen::VectorXd& dq) override;
-  void save() override { saved_ = nodes_; }
+  void save() override { saved_ = anchor_ = nodes_; }
   void restore() override { nodes_ = saved_; }
   void setStabilization(double factor) override;
+  void anchorHere() override { anchor_ = nodes_; }
   // Seeded random displacement of the free nodes along their directors, amplitude a: the
   // imperfection that lets a perfectly flat sheet choose its folds.
   void perturb(double amplitude, unsigned seed);
@@ -37,7 +38,7 @@ class ShellModel : public ContinuationProblem {
  private:
   const DrapeProblem& problem_;
   std::vector<ShellElement> elements_;
-  std::vector<ShellNode> nodes_, saved_;
+  std::vector<ShellNode> nodes_, saved_, anchor_;
   std::vector<int> dof_;                 // 5 per vertex, -1 when constrained
   std::vector<Eigen::Vector3d> f_dead_;  // reference forces (gravity + nodal forces)
   std::vector<Eigen::Vector3d> moment_;  // reference nodal moments

@@ -24,9 +24,10 @@ class ContinuationProblem {
   // Length scale of the model, to recognise a runaway increment.
   virtual double lengthScale() const = 0;
   virtual int activeContacts() const { return 0; }
-  // Viscous stabilisation of the load steps (see ArcLengthSettings::stabilization): adds
-  // -c m (x - x_saved) to R. A problem without it ignores the call.
+  // Viscous stabilisation (see ArcLengthSettings::stabilization): adds -c m (x - x_anchor) to
+  // R. save() also anchors; anchorHere() moves only the anchor. Without it the calls do nothing.
   virtual void setStabilization(double /*factor*/) {}
+  virtual void anchorHere() {}
 };
 
 }  // namespace chs
