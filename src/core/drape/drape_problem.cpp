@@ -32,4 +32,11 @@ void DrapeProblem::validate() const {
     if (!colliders[i]) throw InputError("collider " + std::to_string(i) + " is empty");
 }
 
+void DrapeProblem::checkStaticSupport() const {
+  if (bc.clamped.empty() && bc.pinned.empty() && bc.fixed_components.empty() && colliders.empty())
+    throw InputError(
+        "no support at all: nothing is clamped, pinned or fixed and there are no colliders, so "
+        "the garment has rigid-body modes");
+}
+
 }  // namespace chs

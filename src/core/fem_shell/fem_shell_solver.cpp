@@ -11,6 +11,7 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
                           const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   problem.validate();
+  problem.checkStaticSupport();
   ShellModel model(problem, settings.contact_stiffness);
 
   ArcLengthSettings s;
@@ -30,6 +31,12 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
   DrapeResult r;
   r.converged = c.converged;
   r.status = c.status;
+  if (!c.converged) {
+    const std::string free_modes = model.unrestrainedRigidModes();
+    if (!free_modes.empty())
+      r.status += "; the garment has unrestrained rigid-body modes (" + free_modes +
+                  "): clamp, pin or fix components, or add a collider, to hold it";
+  }
   r.load_steps = c.load_steps;
   r.iterations = c.iterations;
   r.load_factor = c.lambda;

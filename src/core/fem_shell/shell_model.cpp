@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <random>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
 
@@ -65,10 +66,6 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
   for (const auto& f : problem.bc.fixed_components) dof_[5 * f.vertex + f.axis] = -1;
   for (int& d : dof_)
     if (d == 0) d = num_free_++;
-  if (num_free_ == 5 * nv && problem.colliders.empty())
-    throw InputError(
-        "no support at all: nothing is clamped, pinned or fixed and there are no colliders, so "
-        "the garment has rigid-body modes");
 
   double load2 = 0.0;
   for (int v = 0; v < nv; ++v) load2 += f_dead_[v].squaredNorm() + moment_[v].squaredNorm();
@@ -237,6 +234,51 @@ void ShellModel::increment(const Eigen::VectorXd& dq) {
     nodes_[v].position += Eigen::Vector3d(u[0], u[1], u[2]);
     nodes_[v].frame.rotate(Eigen::Vector2d(u[3], u[4]));
   }
+}
+
+std::string ShellModel::unrestrainedRigidModes() const {
+  // Each support c contributes the squared components of the six rigid modes (translations, and
+  // rotations about the centroid) along its direction; the null space of the 6x6 Gram matrix is
+  // what nothing holds. Lengths are scaled by the model size so both kinds weigh alike.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& n : nodes_) centroid += n.position;
+  centroid /= static_cast<double>(nodes_.size());
+  Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Zero();
+  auto mode = [&](const ShellNode& n, int m) {  // 5 reduced unknowns of rigid mode m at node n
+    Eigen::Matrix<double, 5, 1> u = Eigen::Matrix<double, 5, 1>::Zero();
+    if (m < 3) {
+      u[m] = 1.0;
+    } else {
+      const Eigen::Vector3d axis = Eigen::Vector3d::Unit(m - 3);
+      u.head<3>() = axis.cross(n.position - centroid) / length_scale_;
+      u.tail<2>() = n.frame.basis().transpose() * axis.cross(n.frame.director()) / length_scale_;
+    }
+    return u;
+  };
+  for (std::size_t v = 0; v < nodes_.size(); ++v) {
+    Eigen::Matrix<double, 5, 6> M;
+    for (int m = 0; m < 6; ++m) M.col(m) = mode(nodes_[v], m);
+    for (int k = 0; k < 5; ++k)
+      if (dof_[5 * v + k] < 0) G += M.row(k).transpose() * M.row(k);
+    for (const auto& surface : problem_.colliders) {
+      const SurfaceProjection p = surface->project(nodes_[v].position);
+      if (penalty(p.gap).stiffness == 0.0) continue;
+      const Eigen::Matrix<double, 1, 6> c = p.normal.transpose() * M.topRows<3>();
+      G += c.transpose() * c;
+    }
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(G);
+  const double top = std::max(eig.eigenvalues().maxCoeff(), 1e-300);
+  const char* names[6] = {"sliding along x", "sliding along y", "moving along z",
+                          "turning about x", "turning about y", "turning about z"};
+  std::string out;
+  for (int i = 0; i < 6; ++i) {
+    if (eig.eigenvalues()[i] > 1e-10 * top) continue;
+    int dominant;
+    eig.eigenvectors().col(i).cwiseAbs().maxCoeff(&dominant);
+    out += (out.empty() ? "" : ", ") + std::string(names[dominant]);
+  }
+  return out;
 }
 
 std::vector<ContactReaction> ShellModel::reactions() const {

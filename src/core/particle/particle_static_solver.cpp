@@ -179,6 +179,7 @@ DrapeResult solveParticleStatic(const DrapeProblem& problem, const ParticleSetti
                                 const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   problem.validate();
+  problem.checkStaticSupport();
   const int n = problem.mesh.numVertices();
   validateSettings(settings, n);
   const ParticleNetwork network(problem.mesh, problem.material, problem.bc.clamped,

@@ -42,6 +42,9 @@ struct DrapeProblem {
 
   // Throws InputError naming the problem: material, mesh, indices out of range.
   void validate() const;
+  // A static solve also needs something to hold the garment: throws InputError when nothing is
+  // clamped, pinned or fixed and there is no collider (dynamics may fall freely).
+  void checkStaticSupport() const;
 };
 
 // Contact force a rigid surface exerts on one vertex.

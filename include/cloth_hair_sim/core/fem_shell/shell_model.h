@@ -1,4 +1,5 @@
 #pragma once
+#include <string>
 #include <vector>
 
 #include "cloth_hair_sim/core/drape/drape_problem.h"
@@ -31,6 +32,10 @@ class ShellModel : public ContinuationProblem {
   int activeContacts() const override { return active_contacts_; }
 
   const std::vector<ShellNode>& nodes() const { return nodes_; }
+  // Rigid-body motions that neither the constrained unknowns nor the contacts active at the
+  // current state restrain, in words ("" when there are none): the cause of a singular tangent.
+  std::string unrestrainedRigidModes() const;
+
   // Contact forces the colliders exert at the current state.
   std::vector<ContactReaction> reactions() const;
   double contactStiffness() const { return k_contact_; }
