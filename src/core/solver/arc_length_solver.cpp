@@ -21,6 +21,9 @@ class TangentSolver {
     // OpenBLAS's own threads spin against oneTBB's on systems this small; one is faster.
     if (openblas_set_num_threads) openblas_set_num_threads(1);
     lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;  // Newton itself refines the solution
+    // The tangent is symmetric up to the small non-symmetric terms: order A + A^T and prefer
+    // diagonal pivots, which keeps the fill of a shell stiffness low.
+    lu_.umfpackControl()(UMFPACK_STRATEGY) = UMFPACK_STRATEGY_SYMMETRIC;
   }
   bool factorize(const Eigen::SparseMatrix<double>& K) {
     if (!analyzed_) {
