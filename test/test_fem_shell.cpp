@@ -184,5 +184,36 @@ TEST(FemShellBeam, MomentLoadedCantileverConvergesToTheCircle) {
   EXPECT_LT(worst.back(), 0.005);
 }
 
+// Kawabata bending (seed 000 eq. (15), (A.25)-(A.34)): a strip (nu = 0) under a tip moment
+// M = f(K*) per unit width rolls into an arc of curvature K*, whatever the polynomial; K* = 1.5
+// 1/cm lies where the fit is far from linear (tangent 0.36-0.5 against a1 = 1.33). Units cm, gf.
+TEST(FemShellBeam, KawabataStripRollsToTheCurvatureOfTheFit) {
+  const double L = 1.0, Kstar = 1.5;
+  KawabataBending k;
+  k.a = {1.33387, -2.23070, 2.36510, -1.08471, 0.17876};
+  const double M = k.moment(Kstar);
+  const double th = Kstar * L, u = L * (1 - std::sin(th) / th), w = L * (1 - std::cos(th)) / th;
+  std::printf("Kawabata strip, M = f(%.2f) = %.5f gf cm/cm; a linear law with slope a1 would "
+              "bend to %.3f 1/cm\n", Kstar, M, M / k.a[0]);
+  for (int n : {16, 32, 64}) {
+    // The effective membrane strain of pure bending in this resultant theory is about
+    // -m kappa / (E h): a stiff membrane keeps it at 2.5e-6 so the arc keeps its length.
+    const double b = 0.1;  // strip width
+    DrapeProblem p = cantileverStrip(n, L, b, 1.0e7, 0.05);
+    p.material.kawabata = k;
+    for (int v : {n, 2 * n + 1})
+      p.bc.loads.push_back({v, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, -0.5 * M * b, 0)});
+    const DrapeResult r = solveFemShell(p, FemShellSettings());
+    ASSERT_TRUE(r.converged) << r.status;
+    const Eigen::Vector3d tip = 0.5 * (r.positions[n] + r.positions[2 * n + 1]);
+    const double err = std::max(std::abs(L - tip.x() - u), std::abs(tip.z() - w)) / L;
+    std::printf("  %d elements: tip u %.5f (arc %.5f), w %.5f (arc %.5f), error %.3f %% of L\n", n,
+                L - tip.x(), u, tip.z(), w, 100 * err);
+    if (n == 64) {
+      EXPECT_LT(err, 0.001);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace chs
