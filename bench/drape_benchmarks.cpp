@@ -15,6 +15,10 @@
 #include <tbb/global_control.h>
 
 #include <Eigen/SparseCore>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
@@ -163,6 +167,66 @@ BENCHMARK(BM_TableclothLuSolve)
     ->ArgName("reuse_pattern")
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
+
+// Eigen's supernodal SparseLU on the same tangent, numeric factorisation + solve with the
+// ordering and symbolic analysis reused: range(0) 0 = COLAMD, 1 = AMD on A^T + A.
+void BM_TableclothSparseLu(benchmark::State& state) {
+  auto m = std::make_unique<TableclothModel>();
+  Eigen::VectorXd R, F0, x;
+  Eigen::SparseMatrix<double> K;
+  m->model.linearize(1.0, R, F0, &K);
+  auto run = [&](auto& lu) {
+    lu.analyzePattern(K);
+    for (auto _ : state) {
+      lu.factorize(K);
+      x = lu.solve(R);
+      benchmark::DoNotOptimize(x.data());
+    }
+    if (lu.info() != Eigen::Success) state.SkipWithError("SparseLU failed on the tangent");
+  };
+  if (state.range(0) == 0) {
+    Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+    run(lu);
+  } else {
+    Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::AMDOrdering<int>> lu;
+    run(lu);
+  }
+  state.counters["dofs"] = static_cast<double>(K.rows());
+}
+BENCHMARK(BM_TableclothSparseLu)
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgName("amd")
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// Symmetric factorisations of the symmetrised tangent (K + K^T)/2, for scale: range(0) 0 =
+// Eigen SimplicialLDLT (AMD), 1 = CHOLMOD supernodal LDL^T.
+void BM_TableclothSymmetricLdlt(benchmark::State& state) {
+  auto m = std::make_unique<TableclothModel>();
+  Eigen::VectorXd R, F0, x;
+  Eigen::SparseMatrix<double> K;
+  m->model.linearize(1.0, R, F0, &K);
+  const Eigen::SparseMatrix<double> S = 0.5 * (K + Eigen::SparseMatrix<double>(K.transpose()));
+  auto run = [&](auto& f) {
+    f.analyzePattern(S);
+    for (auto _ : state) {
+      f.factorize(S);
+      x = f.solve(R);
+      benchmark::DoNotOptimize(x.data());
+    }
+    if (f.info() != Eigen::Success) state.SkipWithError("LDLT failed");
+  };
+  if (state.range(0) == 0) {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> f;
+    run(f);
+  } else {
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> f;
+    run(f);
+  }
+}
+BENCHMARK(BM_TableclothSymmetricLdlt)->Arg(0)->Arg(1)->ArgName("cholmod")->UseRealTime()->Unit(
+    benchmark::kMillisecond);
 
 }  // namespace
 

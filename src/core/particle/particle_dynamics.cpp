@@ -53,6 +53,12 @@ void ParticleDynamics::checkVertex(int vertex) const {
                      std::to_string(numVertices()) + " vertices)");
 }
 
+void ParticleDynamics::setColliders(const RigidSurfaces& colliders) {
+  for (const auto& c : colliders)
+    if (!c) throw InputError("particle dynamics: null collider");
+  surfaces_ = colliders;
+}
+
 void ParticleDynamics::setPositions(const std::vector<Vec3>& x) {
   if (x.size() != x_.size()) throw InputError("particle dynamics: position count mismatch");
   x_ = x;

@@ -43,6 +43,10 @@ class ParticleDynamics {
   const std::vector<Eigen::Vector3d>& velocities() const { return v_; }
   void setPositions(const std::vector<Eigen::Vector3d>& x);  // pins keep their targets
   void setVelocities(const std::vector<Eigen::Vector3d>& v);
+  // Obstacles that move (a ROS node re-poses them from tf between steps). Throws InputError for
+  // a null surface.
+  void setColliders(const RigidSurfaces& colliders);
+  const RigidSurfaces& colliders() const { return surfaces_; }
 
   void pin(int vertex);                                 // at its current position
   void pin(int vertex, const Eigen::Vector3d& target);  // or move it to target
