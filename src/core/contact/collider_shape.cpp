@@ -1,0 +1,86 @@
+#include "cloth_hair_sim/core/contact/collider_shape.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/contact/posed_surface.h"
+
+namespace chs {
+
+ColliderShape::Type parseColliderType(const std::string& name) {
+  if (name == "plane") return ColliderShape::Type::kPlane;
+  if (name == "sphere") return ColliderShape::Type::kSphere;
+  if (name == "box") return ColliderShape::Type::kBox;
+  if (name == "cylinder") return ColliderShape::Type::kCylinder;
+  throw InputError("collider shape '" + name + "' is unknown: use plane, sphere, box or cylinder");
+}
+
+std::string colliderTypeName(ColliderShape::Type type) {
+  switch (type) {
+    case ColliderShape::Type::kPlane:
+      return "plane";
+    case ColliderShape::Type::kSphere:
+      return "sphere";
+    case ColliderShape::Type::kBox:
+      return "box";
+    case ColliderShape::Type::kCylinder:
+      return "cylinder";
+  }
+  return "unknown";
+}
+
+void ColliderShape::validate() const {
+  const std::string name = colliderTypeName(type);
+  const size_t expected = type == Type::kPlane ? 0 : type == Type::kSphere ? 1
+                          : type == Type::kBox   ? 3
+                                                 : 2;
+  if (dimensions.size() != expected)
+    throw InputError(name + " collider: needs " + std::to_string(expected) + " dimensions, got " +
+                     std::to_string(dimensions.size()));
+  for (size_t i = 0; i < dimensions.size(); ++i)
+    if (!(dimensions[i] > 0.0) || !std::isfinite(dimensions[i]))
+      throw InputError(name + " collider: dimension " + std::to_string(i) +
+                       " must be positive and finite (m)");
+  const Eigen::Matrix3d r = offset.linear();
+  if (!offset.matrix().allFinite() || !(r.transpose() * r).isIdentity(1e-6))
+    throw InputError(name + " collider: the offset pose must be finite with a unit quaternion");
+  if (!std::isfinite(edge_radius))
+    throw InputError(name + " collider: edge radius must be finite");
+}
+
+double ColliderShape::effectiveEdgeRadius() const {
+  if (type == Type::kPlane || type == Type::kSphere) return 0.0;
+  if (edge_radius >= 0.0) return edge_radius;
+  const double smallest = *std::min_element(dimensions.begin(), dimensions.end());
+  return std::min(1e-3, smallest / 100.0);
+}
+
+std::shared_ptr<const RigidSurface> ColliderShape::makeSurface(
+    const Eigen::Isometry3d& world_from_frame) const {
+  validate();
+  const Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  std::shared_ptr<const RigidSurface> local;
+  switch (type) {
+    case Type::kPlane:
+      local = std::make_shared<PlaneSurface>(o, Eigen::Vector3d::UnitZ());
+      break;
+    case Type::kSphere:
+      local = std::make_shared<SphereSurface>(o, dimensions[0]);
+      break;
+    case Type::kBox: {
+      const Eigen::Vector3d half = 0.5 * Eigen::Vector3d(dimensions[0], dimensions[1],
+                                                         dimensions[2]);
+      local = std::make_shared<BoxSurface>(-half, half, effectiveEdgeRadius());
+      break;
+    }
+    case Type::kCylinder:
+      local = std::make_shared<CylinderSurface>(Eigen::Vector2d::Zero(), dimensions[0],
+                                                -0.5 * dimensions[1], 0.5 * dimensions[1],
+                                                effectiveEdgeRadius());
+      break;
+  }
+  return std::make_shared<PosedSurface>(local, world_from_frame * offset);
+}
+
+}  // namespace chs
