@@ -14,11 +14,11 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
-#include <Eigen/SparseCore>
+#include <Eigen/CholmodSupport>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
-#include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
@@ -225,8 +225,12 @@ void BM_TableclothSymmetricLdlt(benchmark::State& state) {
     run(f);
   }
 }
-BENCHMARK(BM_TableclothSymmetricLdlt)->Arg(0)->Arg(1)->ArgName("cholmod")->UseRealTime()->Unit(
-    benchmark::kMillisecond);
+BENCHMARK(BM_TableclothSymmetricLdlt)
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgName("cholmod")
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -7,9 +7,9 @@
 namespace chs::reference {
 
 struct ElasticaTip {
-  double rotation;   // tip rotation theta_0 [rad]
-  double shortening; // u / L
-  double deflection; // w / L
+  double rotation;    // tip rotation theta_0 [rad]
+  double shortening;  // u / L
+  double deflection;  // w / L
 };
 
 // Cantilever of unit length, clamped at s = 0, dead tip load P = lambda EI / L^2 normal to the

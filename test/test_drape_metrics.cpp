@@ -57,7 +57,7 @@ TEST(DrapeMetrics, FlatDiscHasCoefficientOne) {
 TEST(DrapeMetrics, ShadowOfUnitSquareAndOverlap) {
   // Two unit squares overlapping by half: the union is 1.5, not the sum 2.
   chs::QuadMesh mesh;
-  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+  mesh.vertices = {{0, 0, 0},    {1, 0, 0},    {1, 1, 0},    {0, 1, 0},
                    {0.5, 0, -1}, {1.5, 0, -1}, {1.5, 1, -1}, {0.5, 1, -1}};
   mesh.quads = {{0, 1, 2, 3}, {4, 5, 6, 7}};
   double bound = 0.0;
@@ -74,9 +74,9 @@ TEST(DrapeMetrics, VerticalSkirtHasCoefficientZero) {
     return Vector3d(kRd * std::cos(theta), kRd * std::sin(theta), -s);
   });
   const DrapeMetrics m = chs::measureDrape(mesh, p, pedestal(kRd));
-  std::cout << "  cylinder skirt: A_s " << m.shadow_area << " (A_d " << m.support_area
-            << "), DC " << m.drape_coefficient << ", lowest " << m.lowest_z << " (exact "
-            << -(kR - kRd) << ")\n";
+  std::cout << "  cylinder skirt: A_s " << m.shadow_area << " (A_d " << m.support_area << "), DC "
+            << m.drape_coefficient << ", lowest " << m.lowest_z << " (exact " << -(kR - kRd)
+            << ")\n";
   // The shadow is the polygon through the rim's 4 m nodes, inscribed in the support circle:
   // short of pi rd^2 by ~(2 pi / 4m)^2 / 6 plus the raster error, i.e. DC ~ -1e-3.
   EXPECT_NEAR(m.drape_coefficient, 0.0, 3e-3);
@@ -164,8 +164,7 @@ TEST(DrapeMetrics, SupportAndPenetration) {
   box.hi = Vector3d(0.05, 0.1, 0.0);
   EXPECT_NEAR(chs::supportOf(box).area, 0.02, 1e-15);
   const chs::RigidSurfaces surfaces = {c.makeSurface()};
-  EXPECT_NEAR(chs::maxPenetration({{0.1, 0.2, 0.001}, {0.1, 0.2, -0.003}}, surfaces), 0.003,
-              1e-12);
+  EXPECT_NEAR(chs::maxPenetration({{0.1, 0.2, 0.001}, {0.1, 0.2, -0.003}}, surfaces), 0.003, 1e-12);
   EXPECT_EQ(chs::maxPenetration({{0.1, 0.2, 0.001}}, surfaces), 0.0);
 }
 

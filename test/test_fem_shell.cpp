@@ -5,8 +5,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/fem_shell/shell_element.h"
@@ -52,7 +52,8 @@ void checkTangent(bool kawabata) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const std::array<Eigen::Vector3d, 4> X = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.1, 0.1, 0),
-                                            Eigen::Vector3d(1.2, 0.9, 0), Eigen::Vector3d(-0.1, 1, 0)};
+                                            Eigen::Vector3d(1.2, 0.9, 0),
+                                            Eigen::Vector3d(-0.1, 1, 0)};
   std::array<Eigen::Vector3d, 4> T;
   T.fill(Eigen::Vector3d::UnitZ());
   const ShellElement el({0, 1, 2, 3}, X, T, testMaterial(kawabata));
@@ -90,8 +91,12 @@ void checkTangent(bool kawabata) {
   EXPECT_LT(err, 1e-6);
 }
 
-TEST(FemShellElement, TangentMatchesFiniteDifferencesLinear) { checkTangent(false); }
-TEST(FemShellElement, TangentMatchesFiniteDifferencesKawabata) { checkTangent(true); }
+TEST(FemShellElement, TangentMatchesFiniteDifferencesLinear) {
+  checkTangent(false);
+}
+TEST(FemShellElement, TangentMatchesFiniteDifferencesKawabata) {
+  checkTangent(true);
+}
 
 TEST(FemShellElement, RigidMotionIsStressFree) {
   const std::array<Eigen::Vector3d, 4> X = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
@@ -112,30 +117,34 @@ TEST(FemShellElement, RigidMotionIsStressFree) {
   EXPECT_LT(f.norm(), 1e-9);
 }
 
-// Seed 000 section 4.1: L = 1, EA = 2 sqrt(3) 1e-3, EI = 2 sqrt(3) 1e-9, tip load P = lambda EI/L^2.
-// Returns the worst tip deflection error (fraction of L) and tip rotation error (relative).
+// Seed 000 section 4.1: L = 1, EA = 2 sqrt(3) 1e-3, EI = 2 sqrt(3) 1e-9, tip load P = lambda
+// EI/L^2. Returns the worst tip deflection error (fraction of L) and tip rotation error (relative).
 std::pair<double, double> tipLoadedCantilever(int n) {
   const double h = 2.0 * std::sqrt(3.0) * 1e-3, EI = h * h * h / 12.0;
   double worst_u = 0.0, worst_rot = 0.0;
-  std::printf("%d elements\nlambda_P  theta0(FE)  theta0(ref)  u/L(FE)  u/L(ref)  w/L(FE)  w/L(ref)\n", n);
+  std::printf(
+      "%d elements\nlambda_P  theta0(FE)  theta0(ref)  u/L(FE)  u/L(ref)  w/L(FE)  w/L(ref)\n", n);
   for (int lam = 1; lam <= 10; ++lam) {
     DrapeProblem p = cantileverStrip(n, 1.0, 1.0, 1.0, h);
-    for (int v : {n, 2 * n + 1}) p.bc.loads.push_back({v, Eigen::Vector3d(0, 0, -0.5 * lam * EI), Eigen::Vector3d::Zero()});
+    for (int v : {n, 2 * n + 1})
+      p.bc.loads.push_back({v, Eigen::Vector3d(0, 0, -0.5 * lam * EI), Eigen::Vector3d::Zero()});
     const DrapeResult r = solveFemShell(p, FemShellSettings());
     EXPECT_TRUE(r.converged) << r.status;
     const Eigen::Vector3d tip = 0.5 * (r.positions[n] + r.positions[2 * n + 1]);
     const Eigen::Vector3d dir = 0.5 * (r.directors[n] + r.directors[2 * n + 1]);
     const double rot = std::atan2(dir.x(), dir.z());
     const auto ref = reference::tipLoadedElastica(lam);
-    worst_u = std::max({worst_u, std::abs((1.0 - tip.x()) - ref.shortening),
-                        std::abs(-tip.z() - ref.deflection)});
+    worst_u = std::max(
+        {worst_u, std::abs((1.0 - tip.x()) - ref.shortening), std::abs(-tip.z() - ref.deflection)});
     worst_rot = std::max(worst_rot, std::abs(rot - ref.rotation) / ref.rotation);
     std::printf("%8d  %10.5f  %11.5f  %7.5f  %8.5f  %7.5f  %8.5f   (%d steps, %d its)\n", lam, rot,
-                ref.rotation, 1.0 - tip.x(), ref.shortening, -tip.z(), ref.deflection,
-                r.load_steps, r.iterations);
+                ref.rotation, 1.0 - tip.x(), ref.shortening, -tip.z(), ref.deflection, r.load_steps,
+                r.iterations);
   }
-  std::printf("tip-loaded cantilever, %d elements: max deflection error %.3f %% of L, max rotation "
-              "error %.3f %%\n", n, 100 * worst_u, 100 * worst_rot);
+  std::printf(
+      "tip-loaded cantilever, %d elements: max deflection error %.3f %% of L, max rotation "
+      "error %.3f %%\n",
+      n, 100 * worst_u, 100 * worst_rot);
   return {worst_u, worst_rot};
 }
 
@@ -162,13 +171,14 @@ TEST(FemShellBeam, MomentLoadedCantileverConvergesToTheCircle) {
     for (double lm : {0.25, 0.5, 1.0, 1.5, 2.0}) {
       DrapeProblem p = cantileverStrip(n, 1.0, 1.0, 1.0, h);
       const double M = lm * M_PI * EI;
-      for (int v : {n, 2 * n + 1}) p.bc.loads.push_back({v, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, -0.5 * M, 0)});
+      for (int v : {n, 2 * n + 1})
+        p.bc.loads.push_back({v, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, -0.5 * M, 0)});
       const DrapeResult r = solveFemShell(p, FemShellSettings());
       ASSERT_TRUE(r.converged) << r.status;
       const Eigen::Vector3d tip = 0.5 * (r.positions[n] + r.positions[2 * n + 1]);
       const auto ref = reference::momentLoadedCantilever(lm);
-      const double err = std::max(std::abs(1.0 - tip.x() - ref.shortening),
-                                  std::abs(tip.z() - ref.deflection));
+      const double err =
+          std::max(std::abs(1.0 - tip.x() - ref.shortening), std::abs(tip.z() - ref.deflection));
       worst.back() = std::max(worst.back(), err);
       std::printf("%8d %8.2f  %7.4f  %8.4f  %7.4f  %8.4f  %6.3f\n", n, lm, 1.0 - tip.x(),
                   ref.shortening, tip.z(), ref.deflection, 100 * err);
@@ -193,8 +203,10 @@ TEST(FemShellBeam, KawabataStripRollsToTheCurvatureOfTheFit) {
   k.a = {1.33387, -2.23070, 2.36510, -1.08471, 0.17876};
   const double M = k.moment(Kstar);
   const double th = Kstar * L, u = L * (1 - std::sin(th) / th), w = L * (1 - std::cos(th)) / th;
-  std::printf("Kawabata strip, M = f(%.2f) = %.5f gf cm/cm; a linear law with slope a1 would "
-              "bend to %.3f 1/cm\n", Kstar, M, M / k.a[0]);
+  std::printf(
+      "Kawabata strip, M = f(%.2f) = %.5f gf cm/cm; a linear law with slope a1 would "
+      "bend to %.3f 1/cm\n",
+      Kstar, M, M / k.a[0]);
   for (int n : {16, 32, 64}) {
     // The effective membrane strain of pure bending in this resultant theory is about
     // -m kappa / (E h): a stiff membrane keeps it at 2.5e-6 so the arc keeps its length.

@@ -28,8 +28,8 @@ DrapeProblem overhangingBeam(int n) {
   p.gravity = Eigen::Vector3d(0, 0, -1);
   // Frictionless table top at z = 0 whose edge is a = 1.5 cm short of the tip, rounded with
   // 0.1 mm, a twenty-fifth of an element.
-  p.colliders.push_back(std::make_shared<BoxSurface>(
-      Eigen::Vector3d(-1, -2, -1), Eigen::Vector3d(kL - kA, 2, 0), 0.01));
+  p.colliders.push_back(std::make_shared<BoxSurface>(Eigen::Vector3d(-1, -2, -1),
+                                                     Eigen::Vector3d(kL - kA, 2, 0), 0.01));
   // Nothing balances the small horizontal part of the edge reaction on a frictionless table
   // (benchmarks.md): hold one end in x and y, and the other root node in x.
   p.bc.fixed_components = {{0, 0}, {0, 1}, {n + 1, 0}};
@@ -121,8 +121,9 @@ TEST(ParticleContact, OverhangingBeamBesideTheSeed) {
                eRb = std::abs(f.Rb - Rb) / Rb, eRc = std::abs(f.Rc - Rc) / Rc;
   std::printf("particle  %.4f   %.5f   %.5f   %.5f   (%d iterations)\n", f.p, f.dy, f.Rb, f.Rc,
               r.iterations);
-  std::printf("error %%   %.2f     %.2f      %.2f      %.2f   (seed particle: 6.06 18.0 15.52 3.15)\n",
-              100 * ep, 100 * edy, 100 * eRb, 100 * eRc);
+  std::printf(
+      "error %%   %.2f     %.2f      %.2f      %.2f   (seed particle: 6.06 18.0 15.52 3.15)\n",
+      100 * ep, 100 * edy, 100 * eRb, 100 * eRc);
   // The seed's particle model missed dy by 18 %; ours must do no worse than the seed on any figure.
   EXPECT_LT(ep, 0.0606);
   EXPECT_LT(edy, 0.18);

@@ -58,7 +58,8 @@ nlohmann::json metricsJson(const chs::DrapeMetrics& m, double penetration) {
           {"shadow_area_error_bound", m.shadow_area_error_bound},
           {"drape_coefficient", m.drape_coefficient},
           {"folds", m.folds},
-          {"fold_angles_deg", [&] {
+          {"fold_angles_deg",
+           [&] {
              std::vector<double> a;
              for (double t : m.fold_angles) a.push_back(t * 180.0 / M_PI);
              return a;
@@ -85,8 +86,8 @@ TEST(Seed001Drapes, DISABLED_MeasureStudyOutputs) {
     const nlohmann::json j =
         metricsJson(m, chs::maxPenetration(positions, scene.problem.colliders));
     std::ofstream(dir + "/metrics.json") << j.dump(2) << "\n";
-    std::cout << scene.name << " " << dir << ": DC " << m.drape_coefficient << ", folds "
-              << m.folds << ", lowest " << m.lowest_z << "\n";
+    std::cout << scene.name << " " << dir << ": DC " << m.drape_coefficient << ", folds " << m.folds
+              << ", lowest " << m.lowest_z << "\n";
   }
 }
 
@@ -102,18 +103,16 @@ TEST(Seed001Drapes, DiscOnPedestalCoarse) {
   const auto at = text.find(from);
   ASSERT_NE(at, std::string::npos);
   text.replace(at, from.size(), to);
-  const chs::Scene scene = chs::parseScene(text, std::string(CHS_SOURCE_DIR) + "/scenes",
-                                           "disc_254_on_127_test");
+  const chs::Scene scene =
+      chs::parseScene(text, std::string(CHS_SOURCE_DIR) + "/scenes", "disc_254_on_127_test");
   const chs::DrapeResult r = chs::solveFemShell(scene.problem, scene.fem_shell);
-  const chs::DrapeMetrics m =
-      chs::measureDrape(scene.problem.mesh, r.positions, supportOf(scene));
+  const chs::DrapeMetrics m = chs::measureDrape(scene.problem.mesh, r.positions, supportOf(scene));
   const double penetration = chs::maxPenetration(r.positions, scene.problem.colliders);
   std::cout << "  " << scene.problem.mesh.numVertices() << " nodes: " << r.status << ", "
-            << r.wall_time_s << " s\n  DC " << m.drape_coefficient << " (shadow "
-            << m.shadow_area << " +- " << m.shadow_area_error_bound << "), folds " << m.folds
-            << ", lowest " << m.lowest_z << ", highest " << m.highest_z << ", outline r "
-            << m.min_outline_radius << " - " << m.max_outline_radius << ", penetration "
-            << penetration << "\n";
+            << r.wall_time_s << " s\n  DC " << m.drape_coefficient << " (shadow " << m.shadow_area
+            << " +- " << m.shadow_area_error_bound << "), folds " << m.folds << ", lowest "
+            << m.lowest_z << ", highest " << m.highest_z << ", outline r " << m.min_outline_radius
+            << " - " << m.max_outline_radius << ", penetration " << penetration << "\n";
   ASSERT_TRUE(r.converged) << r.status;
 
   // Shape: cloth over the pedestal top rests on it (z ~ 0, within the penalty's sink), the rest
@@ -135,7 +134,7 @@ TEST(Seed001Drapes, DiscOnPedestalCoarse) {
   }
   EXPECT_LT(penetration, 1e-3);  // 1 mm: the penalty lets a node sink by weight / k_c
   EXPECT_LT(m.lowest_z, -0.03);
-  EXPECT_GT(m.lowest_z, -(0.127 - rd) - 1e-3);  // no deeper than the hanging length
+  EXPECT_GT(m.lowest_z, -(0.127 - rd) - 1e-3);          // no deeper than the hanging length
   EXPECT_NEAR(m.drape_coefficient, kMeasuredDc, 0.03);  // band: +-0.03 around the measured value
   EXPECT_EQ(m.folds, kMeasuredFolds);
 }

@@ -24,7 +24,8 @@ void report(const char* method, const Scene& scene, const DrapeResult& r) {
               -c.z(), m.x(), -m.z());
   std::printf("  seed experiment: corner 0.39 0.38 0.39, midside 0.18 0.40 (see VALIDATION.md)\n");
   // The frictionless table is the only support: its vertical reactions carry the weight.
-  const double weight = scene.problem.material.areal_density * kL * kL * scene.problem.gravity.norm();
+  const double weight =
+      scene.problem.material.areal_density * kL * kL * scene.problem.gravity.norm();
   double lift = 0.0;
   for (const auto& f : r.reactions) lift += f.force.z();
   const double err = std::abs(lift - weight) / weight;

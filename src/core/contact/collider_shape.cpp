@@ -32,9 +32,10 @@ std::string colliderTypeName(ColliderShape::Type type) {
 
 void ColliderShape::validate() const {
   const std::string name = colliderTypeName(type);
-  const size_t expected = type == Type::kPlane ? 0 : type == Type::kSphere ? 1
-                          : type == Type::kBox   ? 3
-                                                 : 2;
+  const size_t expected = type == Type::kPlane    ? 0
+                          : type == Type::kSphere ? 1
+                          : type == Type::kBox    ? 3
+                                                  : 2;
   if (dimensions.size() != expected)
     throw InputError(name + " collider: needs " + std::to_string(expected) + " dimensions, got " +
                      std::to_string(dimensions.size()));
@@ -45,8 +46,7 @@ void ColliderShape::validate() const {
   const Eigen::Matrix3d r = offset.linear();
   if (!offset.matrix().allFinite() || !(r.transpose() * r).isIdentity(1e-6))
     throw InputError(name + " collider: the offset pose must be finite with a unit quaternion");
-  if (!std::isfinite(edge_radius))
-    throw InputError(name + " collider: edge radius must be finite");
+  if (!std::isfinite(edge_radius)) throw InputError(name + " collider: edge radius must be finite");
 }
 
 double ColliderShape::effectiveEdgeRadius() const {
@@ -69,8 +69,8 @@ std::shared_ptr<const RigidSurface> ColliderShape::makeSurface(
       local = std::make_shared<SphereSurface>(o, dimensions[0]);
       break;
     case Type::kBox: {
-      const Eigen::Vector3d half = 0.5 * Eigen::Vector3d(dimensions[0], dimensions[1],
-                                                         dimensions[2]);
+      const Eigen::Vector3d half =
+          0.5 * Eigen::Vector3d(dimensions[0], dimensions[1], dimensions[2]);
       local = std::make_shared<BoxSurface>(-half, half, effectiveEdgeRadius());
       break;
     }

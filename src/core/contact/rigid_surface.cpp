@@ -23,9 +23,8 @@ SurfaceProjection fromClosestPoint(const Eigen::Vector3d& x, const Eigen::Vector
   const double dist = d.norm();
   p.gap = dist - offset;
   p.normal = d / dist;
-  p.normal_gradient = (Eigen::Matrix3d::Identity() - p.normal * p.normal.transpose() -
-                       sliding_projector) /
-                      dist;
+  p.normal_gradient =
+      (Eigen::Matrix3d::Identity() - p.normal * p.normal.transpose() - sliding_projector) / dist;
   return p;
 }
 
@@ -50,7 +49,9 @@ SurfaceProjection PlaneSurface::project(const Eigen::Vector3d& x) const {
   return p;
 }
 
-std::string PlaneSurface::describe() const { return "plane through " + vec(point_); }
+std::string PlaneSurface::describe() const {
+  return "plane through " + vec(point_);
+}
 
 BoxSurface::BoxSurface(const Eigen::Vector3d& min_corner, const Eigen::Vector3d& max_corner,
                        double edge_radius)
@@ -102,8 +103,8 @@ SurfaceProjection BoxSurface::project(const Eigen::Vector3d& x) const {
 }
 
 std::string BoxSurface::describe() const {
-  return "box " + vec(lo_) + " - " + vec(hi_ + Eigen::Vector3d(0, 0, radius_)) +
-         " edge radius " + std::to_string(radius_);
+  return "box " + vec(lo_) + " - " + vec(hi_ + Eigen::Vector3d(0, 0, radius_)) + " edge radius " +
+         std::to_string(radius_);
 }
 
 CylinderSurface::CylinderSurface(const Eigen::Vector2d& center_xy, double radius, double z_bottom,

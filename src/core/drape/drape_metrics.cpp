@@ -167,8 +167,7 @@ std::vector<int> periodicPeaks(const std::vector<double>& s, double min_prominen
       saddle[side] = lowest;
     }
     // No higher peak anywhere: the highest peak, whose prominence is its height above the minimum.
-    const double base =
-        higher[0] || higher[1] ? std::max(saddle[0], saddle[1]) : global_min;
+    const double base = higher[0] || higher[1] ? std::max(saddle[0], saddle[1]) : global_min;
     if (s[i] - base >= min_prominence) peaks.push_back(i);
   }
   return peaks;

@@ -9,10 +9,10 @@ namespace chs {
 DirectorFrame::DirectorFrame(const Eigen::Vector3d& t) {
   const Eigen::Vector3d e3 = t.normalized();
   // Seed 000 eq. (7) with E = e_z, except near E.t = -1 where a 180-degree turn about e_x is used.
-  const Eigen::Quaterniond q = e3.z() > -0.9
-                                   ? Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), e3)
-                                   : Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), e3) *
-                                         Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0);
+  const Eigen::Quaterniond q =
+      e3.z() > -0.9 ? Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), e3)
+                    : Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), e3) *
+                          Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0);
   frame_ = q.toRotationMatrix();
 }
 

@@ -10,7 +10,8 @@ namespace {
 
 using Vec24 = Eigen::Matrix<double, 24, 1>;
 using Mat24 = Eigen::Matrix<double, 24, 24>;
-using StrainB = Eigen::Matrix<double, 8, 24>;  // rows: eps11 eps22 2eps12 | gam1 gam2 | k11 k22 2k12
+using StrainB =
+    Eigen::Matrix<double, 8, 24>;  // rows: eps11 eps22 2eps12 | gam1 gam2 | k11 k22 2k12
 using Strain8 = Eigen::Matrix<double, 8, 1>;
 
 constexpr double kNodeXi[4] = {-1.0, 1.0, 1.0, -1.0};
@@ -63,8 +64,8 @@ Kinematics kinematicsAt(const Shape& s, const std::array<Eigen::Vector3d, 4>& x,
 // The strain measures (3)-(5) before subtracting the reference, Voigt order of StrainB.
 Strain8 measuresAt(const Kinematics& k) {
   Strain8 m;
-  m << 0.5 * k.a[0].squaredNorm(), 0.5 * k.a[1].squaredNorm(), k.a[0].dot(k.a[1]),
-      k.a[0].dot(k.t), k.a[1].dot(k.t), k.a[0].dot(k.dt[0]), k.a[1].dot(k.dt[1]),
+  m << 0.5 * k.a[0].squaredNorm(), 0.5 * k.a[1].squaredNorm(), k.a[0].dot(k.a[1]), k.a[0].dot(k.t),
+      k.a[1].dot(k.t), k.a[0].dot(k.dt[0]), k.a[1].dot(k.dt[1]),
       k.a[0].dot(k.dt[1]) + k.a[1].dot(k.dt[0]);
   return m;
 }
@@ -100,8 +101,8 @@ void addSecondVariation(const Shape& s, const Strain8& c, Mat24& K) {
     for (int J = 0; J < 4; ++J) {
       const double I1 = s.dN[0][I], I2 = s.dN[1][I], J1 = s.dN[0][J], J2 = s.dN[1][J];
       const double pp = c[0] * I1 * J1 + c[1] * I2 * J2 + c[2] * (I1 * J2 + I2 * J1);
-      const double pt = c[3] * I1 * s.N[J] + c[4] * I2 * s.N[J] + c[5] * I1 * J1 +
-                        c[6] * I2 * J2 + c[7] * (I1 * J2 + I2 * J1);
+      const double pt = c[3] * I1 * s.N[J] + c[4] * I2 * s.N[J] + c[5] * I1 * J1 + c[6] * I2 * J2 +
+                        c[7] * (I1 * J2 + I2 * J1);
       for (int k = 0; k < 3; ++k) {
         K(6 * I + k, 6 * J + k) += pp;
         K(6 * I + k, 6 * J + 3 + k) += pt;
@@ -115,15 +116,14 @@ void addSecondVariation(const Shape& s, const Strain8& c, Mat24& K) {
 Eigen::Matrix3d voigtTransform(const Eigen::Matrix2d& c) {
   Eigen::Matrix3d T;
   T << c(0, 0) * c(0, 0), c(1, 0) * c(1, 0), c(0, 0) * c(1, 0),  //
-      c(0, 1) * c(0, 1), c(1, 1) * c(1, 1), c(0, 1) * c(1, 1),    //
+      c(0, 1) * c(0, 1), c(1, 1) * c(1, 1), c(0, 1) * c(1, 1),   //
       2 * c(0, 0) * c(0, 1), 2 * c(1, 0) * c(1, 1), c(0, 0) * c(1, 1) + c(1, 0) * c(0, 1);
   return T;
 }
 
 }  // namespace
 
-ShellElement::ShellElement(const std::array<int, 4>& nodes,
-                           const std::array<Eigen::Vector3d, 4>& X,
+ShellElement::ShellElement(const std::array<int, 4>& nodes, const std::array<Eigen::Vector3d, 4>& X,
                            const std::array<Eigen::Vector3d, 4>& T, const ShellMaterial& material)
     : nodes_(nodes), X_(X), T_(T), material_(material) {
   for (int g = 0; g < 4; ++g) {

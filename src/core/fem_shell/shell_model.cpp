@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <random>
 
+#include <tbb/parallel_for.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <tbb/parallel_for.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 
@@ -19,8 +19,7 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 }
 }  // namespace
 
-ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
-    : problem_(problem) {
+ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness) : problem_(problem) {
   const QuadMesh& mesh = problem.mesh;
   const int nv = mesh.numVertices();
   // Reference directors t_0: area-weighted vertex normals of the stress-free mesh (eq. (2)).
@@ -75,7 +74,8 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
   length_scale_ = std::max(box.diagonal().norm(), 1e-12);
   double edges = 0.0;
   for (const auto& q : mesh.quads)
-    for (int I = 0; I < 4; ++I) edges += (mesh.vertices[q[I]] - mesh.vertices[q[(I + 1) % 4]]).norm();
+    for (int I = 0; I < 4; ++I)
+      edges += (mesh.vertices[q[I]] - mesh.vertices[q[(I + 1) % 4]]).norm();
   mean_edge_ = mesh.quads.empty() ? 1.0 : edges / (4.0 * mesh.numQuads());
   contact_smoothing_ = 1e-4 * mean_edge_;
   anchor_ = nodes_;
@@ -83,8 +83,9 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness)
   saved_ = nodes_;
   // Penalty k_c: a hundred times the membrane stiffness E h keeps penetration a fraction of the
   // strains while leaving the tangent well conditioned for the direct solver.
-  k_contact_ = contact_stiffness > 0.0 ? contact_stiffness
-                                       : 100.0 * problem.material.young * problem.material.thickness;
+  k_contact_ = contact_stiffness > 0.0
+                   ? contact_stiffness
+                   : 100.0 * problem.material.young * problem.material.thickness;
 }
 
 void ShellModel::buildPattern() {
@@ -212,7 +213,9 @@ ShellModel::Penalty ShellModel::penalty(double gap) const {
   return {0.5 * k_contact_ * p * p / delta, k_contact_ * p / delta};
 }
 
-void ShellModel::setStabilization(double factor) { stabilization_ = factor; }
+void ShellModel::setStabilization(double factor) {
+  stabilization_ = factor;
+}
 
 void ShellModel::perturb(double amplitude, unsigned seed) {
   std::mt19937 rng(seed);
@@ -287,7 +290,8 @@ std::vector<ContactReaction> ShellModel::reactions() const {
     for (std::size_t s = 0; s < problem_.colliders.size(); ++s) {
       const SurfaceProjection p = problem_.colliders[s]->project(nodes_[v].position);
       const Penalty f = penalty(p.gap);
-      if (f.force > 0.0) out.push_back({static_cast<int>(v), static_cast<int>(s), f.force * p.normal});
+      if (f.force > 0.0)
+        out.push_back({static_cast<int>(v), static_cast<int>(s), f.force * p.normal});
     }
   return out;
 }

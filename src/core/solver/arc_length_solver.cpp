@@ -106,7 +106,7 @@ class StepRunner {
           outcome = Outcome::kSingular;
           break;
         }
-        const double f = std::sqrt(d_.squaredNorm() + dl * dl) - arc;  // eq. (19)
+        const double f = std::sqrt(d_.squaredNorm() + dl * dl) - arc;   // eq. (19)
         dlam_i = -(f * (f + arc) + d_.dot(uII_)) / (dl + d_.dot(uI_));  // eq. (21)
         delta_ = dlam_i * uI_ + uII_;                                   // eq. (22)
       }
@@ -117,7 +117,7 @@ class StepRunner {
       }
       p_.increment(delta_);  // step 4.5
       if (!on_arc) backtrack(lam);
-      lam += dlam_i;         // step 4.6
+      lam += dlam_i;  // step 4.6
       d_ += delta_;
       dl += dlam_i;
     }
@@ -286,8 +286,8 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
     // per pseudo-time step, damped by the viscous term anchored at the current state, with
     // switched evolution relaxation c_{k+1} = c_k r_k / r_{k-1}: the damping fades as the
     // residual falls, so the last iterations are plain Newton and converge quadratically.
-    // A step that fails or lets the residual grow a thousandfold past the best one restarts from the
-    // best state with ten times the damping.
+    // A step that fails or lets the residual grow a thousandfold past the best one restarts from
+    // the best state with ten times the damping.
     const int step = out.load_steps + 1;
     double previous = 0.0, best = HUGE_VAL;
     bool settled = false;

@@ -14,7 +14,8 @@ namespace chs {
 class PosedSurface : public RigidSurface {
  public:
   // Throws InputError for a null surface or a transform that is not finite and rigid.
-  PosedSurface(std::shared_ptr<const RigidSurface> local, const Eigen::Isometry3d& world_from_local);
+  PosedSurface(std::shared_ptr<const RigidSurface> local,
+               const Eigen::Isometry3d& world_from_local);
   SurfaceProjection project(const Eigen::Vector3d& x) const override;
   std::string describe() const override;
   const Eigen::Isometry3d& pose() const { return pose_; }

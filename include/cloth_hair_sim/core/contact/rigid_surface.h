@@ -9,8 +9,8 @@ namespace chs {
 
 // Closest-point query of a point against a rigid obstacle.
 struct SurfaceProjection {
-  double gap = 0.0;                                      // signed distance, < 0 inside
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();    // outward unit normal (gradient of gap)
+  double gap = 0.0;                                   // signed distance, < 0 inside
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // outward unit normal (gradient of gap)
   Eigen::Matrix3d normal_gradient = Eigen::Matrix3d::Zero();  // d normal / d x (Hessian of gap)
 };
 

@@ -38,9 +38,9 @@ struct DrapeMetricsSettings {
 };
 
 struct DrapeMetrics {
-  double flat_area = 0.0;       // A_D: area of the reference (flat) mesh
-  double support_area = 0.0;    // A_d
-  double shadow_area = 0.0;     // A_s
+  double flat_area = 0.0;                // A_D: area of the reference (flat) mesh
+  double support_area = 0.0;             // A_d
+  double shadow_area = 0.0;              // A_s
   double shadow_area_error_bound = 0.0;  // P h sqrt(2) of the rasterisation
   double drape_coefficient = 0.0;        // (A_s - A_d) / (A_D - A_d)
   int folds = 0;
@@ -50,8 +50,9 @@ struct DrapeMetrics {
   double min_outline_radius = 0.0;  // of the smoothed outline r(theta)
   double max_outline_radius = 0.0;
   double mean_outline_radius = 0.0;
-  double max_radius = 0.0;          // largest horizontal distance of any node from the axis
-  std::vector<double> outline_radius;  // smoothed r(theta) of the bins, theta_k = -pi + (k+.5) dtheta
+  double max_radius = 0.0;  // largest horizontal distance of any node from the axis
+  std::vector<double>
+      outline_radius;  // smoothed r(theta) of the bins, theta_k = -pi + (k+.5) dtheta
 };
 
 // Area of the horizontal projection (shadow) of a mesh: the union of its projected quads.

@@ -66,7 +66,7 @@ class ShellElement {
     double ak[3];  // a1.t,1, a2.t,2, a1.t,2 + a2.t,1
   };
   std::array<PointRef, 4> gauss_ref_;
-  std::array<PointRef, 5> sample_ref_;  // A(0,-1) C(0,1) D(-1,0) B(1,0) centre(0,0)
+  std::array<PointRef, 5> sample_ref_;    // A(0,-1) C(0,1) D(-1,0) B(1,0) centre(0,0)
   std::array<double, 4> gauss_weight_{};  // dA at each Gauss point
   std::array<Eigen::Matrix3d, 4> strain_to_cartesian_;
   std::array<Eigen::Matrix2d, 4> shear_to_cartesian_;

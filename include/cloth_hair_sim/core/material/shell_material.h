@@ -23,10 +23,10 @@ struct KawabataBending {
 // Isotropic shell material: seed 000 eqs. (8)-(14). Units are the caller's, consistent
 // (SI in scenes: Pa, m, kg/m^2).
 struct ShellMaterial {
-  double young = 0.0;           // E
-  double poisson = 0.0;         // nu, in [0, 0.5)
-  double thickness = 0.0;       // h
-  double areal_density = 0.0;   // mass per unit mid-surface area (weight = areal_density * g)
+  double young = 0.0;          // E
+  double poisson = 0.0;        // nu, in [0, 0.5)
+  double thickness = 0.0;      // h
+  double areal_density = 0.0;  // mass per unit mid-surface area (weight = areal_density * g)
   double shear_correction = 5.0 / 6.0;
   std::optional<KawabataBending> kawabata;  // replaces the linear bending law (9) if set
 

@@ -1,0 +1,41 @@
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "cloth_hair_sim/LoadGarment.h"
+#include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/particle/particle_dynamics.h"
+
+namespace chs_node {
+
+// A loaded garment: its flat reference problem (in the world frame, colliders left empty: the
+// node supplies the current ones) and its dynamic state.
+struct Garment {
+  std::string name;
+  std::string material_name;
+  chs::DrapeProblem reference;
+  std::unique_ptr<chs::ParticleDynamics> dynamics;
+  double stable_dt = 0.0;   // [s] substep the explicit integrator tolerates
+  std::uint64_t generation = 0;  // set anew on load and reset: a finished drape checks it
+  int colour = 0;
+};
+
+// Rigid pose of a geometry_msgs/Pose; throws chs::InputError for NaN/Inf or a quaternion that
+// is neither (close to) unit nor all zero (read as the identity).
+Eigen::Isometry3d poseFromMsg(const geometry_msgs::Pose& pose);
+
+// Builds and validates a garment from a ~load_garment request; world_from_request_frame places
+// the request's frame_id. Throws chs::InputError naming the problem (file, mesh, pose, material,
+// vertex indices).
+Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
+                     const Eigen::Isometry3d& world_from_request_frame,
+                     const Eigen::Vector3d& gravity,
+                     const chs::ParticleDynamicsSettings& settings);
+
+// A fresh dynamic state at the garment's reference (reset).
+void resetDynamics(Garment& garment, const chs::ParticleDynamicsSettings& settings);
+
+}  // namespace chs_node

@@ -1,0 +1,95 @@
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+
+#include <ros/ros.h>
+#include <std_srvs/SetBool.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "cloth_hair_sim/DrapeSolve.h"
+#include "cloth_hair_sim/ListGarments.h"
+#include "cloth_hair_sim/LoadGarment.h"
+#include "cloth_hair_sim/RemoveGarment.h"
+#include "cloth_hair_sim/StepSim.h"
+#include "cloth_hair_sim/node/collider_tracker.h"
+#include "cloth_hair_sim/node/garment.h"
+#include "cloth_hair_sim/node/sim_params.h"
+
+namespace chs_node {
+
+// cloth_hair_sim_node: steps the core's dynamics on a timer, follows colliders through tf2,
+// publishes ~status and ~markers and offers the garment and drape services. Callbacks run on
+// an AsyncSpinner, so a long ~drape_solve leaves the timers and other services running; one
+// mutex guards the simulation state, and the drape solve itself runs without holding it.
+class SimNode {
+ public:
+  // Throws chs::InputError for bad parameters (the caller reports it and exits).
+  SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh);
+
+ private:
+  struct UpdateStats {
+    double dt = 0.0;
+    int substeps = 0;
+    double wall_per_step = 0.0;
+    double real_time_factor = 0.0;
+  };
+
+  void onStepTimer(const ros::TimerEvent& event);
+  void onStatusTimer(const ros::TimerEvent& event);
+  void onMarkerTimer(const ros::TimerEvent& event);
+
+  bool loadGarment(cloth_hair_sim::LoadGarment::Request& req,
+                   cloth_hair_sim::LoadGarment::Response& res);
+  bool removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
+                     cloth_hair_sim::RemoveGarment::Response& res);
+  bool listGarments(cloth_hair_sim::ListGarments::Request& req,
+                    cloth_hair_sim::ListGarments::Response& res);
+  bool reset(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool pause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
+  bool step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSim::Response& res);
+  bool drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
+                  cloth_hair_sim::DrapeSolve::Response& res);
+
+  // Under mutex_: colliders from tf into every garment.
+  void refreshColliders();
+  // Under mutex_: advances every garment by `count` substeps of h.
+  void advance(int count, double h);
+  // Under mutex_: one substep of one garment; a diverged step is rolled back and retried as two
+  // halves, a few levels deep, before the garment is stopped where it was.
+  void stepGarment(Garment& g, double h, int depth);
+  bool diverged(const Garment& g) const;
+  // Under mutex_: the largest substep every garment tolerates.
+  double substepLimit() const;
+
+  ros::NodeHandle nh_, pnh_;
+  SimParams params_;
+  chs::ParticleDynamicsSettings dynamics_settings_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+
+  std::mutex mutex_;
+  ColliderTracker colliders_;
+  std::map<std::string, Garment> garments_;
+  std::uint64_t next_generation_ = 1;
+  int next_colour_ = 0;
+  bool paused_ = false;
+  bool transforms_ok_ = true;
+  double sim_time_ = 0.0;
+  std::uint64_t steps_ = 0;
+  int rollbacks_ = 0;
+  UpdateStats last_;
+  std::atomic<bool> drape_running_{false};
+
+  ros::Publisher status_pub_, marker_pub_;
+  ros::ServiceServer load_srv_, remove_srv_, list_srv_, reset_srv_, pause_srv_, step_srv_,
+      drape_srv_;
+  ros::Timer step_timer_, status_timer_, marker_timer_;
+};
+
+}  // namespace chs_node

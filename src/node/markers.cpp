@@ -1,0 +1,106 @@
+#include "cloth_hair_sim/node/markers.h"
+
+#include <array>
+
+#include <tf2_eigen/tf2_eigen.h>
+
+namespace chs_node {
+namespace {
+
+geometry_msgs::Point point(const Eigen::Vector3d& v) {
+  geometry_msgs::Point p;
+  p.x = v.x();
+  p.y = v.y();
+  p.z = v.z();
+  return p;
+}
+
+std_msgs::ColorRGBA palette(int i) {
+  static const std::array<std::array<float, 3>, 6> rgb{{{0.85f, 0.25f, 0.2f},
+                                                        {0.2f, 0.45f, 0.85f},
+                                                        {0.95f, 0.7f, 0.15f},
+                                                        {0.3f, 0.7f, 0.35f},
+                                                        {0.6f, 0.35f, 0.75f},
+                                                        {0.9f, 0.5f, 0.7f}}};
+  const auto& c = rgb[static_cast<size_t>(i) % rgb.size()];
+  std_msgs::ColorRGBA out;
+  out.r = c[0];
+  out.g = c[1];
+  out.b = c[2];
+  out.a = 1.0f;
+  return out;
+}
+
+}  // namespace
+
+visualization_msgs::Marker garmentMarker(const chs::QuadMesh& mesh,
+                                         const std::vector<Eigen::Vector3d>& x, int id,
+                                         int colour) {
+  visualization_msgs::Marker m;
+  m.ns = "garments";
+  m.id = id;
+  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  m.color = palette(colour);
+  m.points.reserve(mesh.quads.size() * 12);
+  for (const auto& q : mesh.quads) {
+    for (const auto& t : {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
+      for (int k : {0, 1, 2}) m.points.push_back(point(x[t[k]]));  // front
+      for (int k : {0, 2, 1}) m.points.push_back(point(x[t[k]]));  // back
+    }
+  }
+  return m;
+}
+
+visualization_msgs::Marker colliderMarker(const TrackedCollider& c, int id) {
+  visualization_msgs::Marker m;
+  m.ns = "colliders";
+  m.id = id;
+  m.action = visualization_msgs::Marker::ADD;
+  m.color.r = m.color.g = m.color.b = 0.6f;
+  m.color.a = c.stale ? 0.25f : 0.6f;  // a collider holding its last pose fades
+  Eigen::Isometry3d pose = c.shapePose();
+  const auto& d = c.shape.dimensions;
+  switch (c.shape.type) {
+    case chs::ColliderShape::Type::kPlane:
+      m.type = visualization_msgs::Marker::CUBE;
+      m.scale.x = m.scale.y = 4.0;
+      m.scale.z = 0.002;
+      pose.translate(Eigen::Vector3d(0.0, 0.0, -0.001));  // top face on the plane
+      break;
+    case chs::ColliderShape::Type::kSphere:
+      m.type = visualization_msgs::Marker::SPHERE;
+      m.scale.x = m.scale.y = m.scale.z = 2.0 * d[0];
+      break;
+    case chs::ColliderShape::Type::kBox:
+      m.type = visualization_msgs::Marker::CUBE;
+      m.scale.x = d[0];
+      m.scale.y = d[1];
+      m.scale.z = d[2];
+      break;
+    case chs::ColliderShape::Type::kCylinder:
+      m.type = visualization_msgs::Marker::CYLINDER;
+      m.scale.x = m.scale.y = 2.0 * d[0];
+      m.scale.z = d[1];
+      break;
+  }
+  m.pose = tf2::toMsg(pose);
+  return m;
+}
+
+shape_msgs::Mesh meshMessage(const chs::QuadMesh& mesh, const std::vector<Eigen::Vector3d>& x) {
+  shape_msgs::Mesh out;
+  for (const auto& v : x) out.vertices.push_back(point(v));
+  for (const auto& q : mesh.quads) {
+    for (const auto& t : {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
+      shape_msgs::MeshTriangle tri;
+      for (int k = 0; k < 3; ++k) tri.vertex_indices[k] = static_cast<uint32_t>(t[k]);
+      out.triangles.push_back(tri);
+    }
+  }
+  return out;
+}
+
+}  // namespace chs_node
