@@ -17,8 +17,11 @@ build: deps
 	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
 	cmake --build $(BUILD) -j$(JOBS)
 
+# rostests need the package on ROS_PACKAGE_PATH: source the devel space first. ctest's exit
+# status is the verdict (catkin_make run_tests would exit 0 on failure).
 test: build
-	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+	cd $(BUILD) && ROSCONSOLE_STDOUT_LINE_BUFFERED=1 bash -c \
+	  'source devel/setup.bash && ctest --output-on-failure -j$(JOBS)'
 
 demo: build
 	$(BIN)/drape scenes/tablecloth_fem.yaml --out $(DEMO_OUT)/tablecloth

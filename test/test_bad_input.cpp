@@ -14,6 +14,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "drape_tool_runner.h"
 #include <nlohmann/json.hpp>
 
 #include "cloth_hair_sim/core/common/input_error.h"
@@ -266,23 +268,8 @@ TEST(FailedSolve, ParticleOutOfIterations) {
 
 // --- the drape tool ---
 
-struct ToolRun {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-ToolRun drape(const std::string& args) {
-  ToolRun r;
-  const std::string cmd = std::string("'") + CHS_DRAPE_EXE + "' " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
-  const int raw = pclose(pipe);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::cout << "  drape " << args << " -> " << r.status << ": " << r.output;
-  return r;
-}
+using chs::testing::drape;
+using chs::testing::ToolRun;
 
 class DrapeToolBadInput : public ::testing::Test {
  protected:

@@ -8,27 +8,14 @@
 
 #include <gtest/gtest.h>
 
+#include "drape_tool_runner.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct ToolRun {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-ToolRun drape(const std::string& args) {
-  ToolRun r;
-  const std::string cmd = std::string("'") + CHS_DRAPE_EXE + "' " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
-  const int raw = pclose(pipe);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::cout << "  drape " << args << " -> " << r.status << ": " << r.output;
-  return r;
-}
+using chs::testing::drape;
+using chs::testing::ToolRun;
 
 fs::path tempDir() {
   const fs::path dir = fs::temp_directory_path() / ("chs_test_drape_" + std::to_string(getpid()));

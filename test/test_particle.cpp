@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "elastica_reference.h"
+
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
 #include "cloth_hair_sim/core/particle/particle_network.h"
@@ -83,32 +85,10 @@ struct Tip {
   double rotation, u, w;
 };
 
-// Elastica theta'' + lambda cos(theta) = 0, theta(0) = 0, theta'(1) = 0, by shooting on
-// theta'(0) with RK4 (independent of the closed form quoted in benchmarks.md).
+// The elastica by shooting, shared with the FEM tests (independent of the closed form).
 Tip elastica(double lambda) {
-  auto shoot = [lambda](double k0, Tip* tip) {
-    const int steps = 2000;
-    const double ds = 1.0 / steps;
-    Eigen::Vector4d y(0.0, k0, 0.0, 0.0);  // theta, theta', x, w
-    auto rhs = [lambda](const Eigen::Vector4d& s) {
-      return Eigen::Vector4d(s[1], -lambda * std::cos(s[0]), std::cos(s[0]), std::sin(s[0]));
-    };
-    for (int i = 0; i < steps; ++i) {
-      const Eigen::Vector4d k1 = rhs(y), k2 = rhs(y + 0.5 * ds * k1), k3 = rhs(y + 0.5 * ds * k2),
-                            k4 = rhs(y + ds * k3);
-      y += ds / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4);
-    }
-    if (tip) *tip = {y[0], 1.0 - y[2], y[3]};
-    return y[1];
-  };
-  double lo = 0.0, hi = lambda;  // theta'(1) < 0 at lo, >= 0 at hi
-  for (int i = 0; i < 60; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (shoot(mid, nullptr) < 0.0 ? lo : hi) = mid;
-  }
-  Tip t;
-  shoot(0.5 * (lo + hi), &t);
-  return t;
+  const reference::ElasticaTip e = reference::tipLoadedElastica(lambda);
+  return {e.rotation, e.shortening, e.deflection};
 }
 
 DrapeProblem cantilever(int n, double lambda) {

@@ -69,11 +69,7 @@ chs::ShellMaterial garmentMaterial(const cloth_hair_sim::LoadGarment::Request& r
   take(req.thickness, m.thickness);
   take(req.areal_density, m.areal_density);
   if (modified && !req.material.empty()) name += " (modified)";
-  try {
-    m.validate();
-  } catch (const InputError& e) {
-    throw InputError(std::string("material: ") + e.what());
-  }
+  m.validate();  // its messages start with "material:"
   return m;
 }
 

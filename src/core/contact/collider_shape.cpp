@@ -47,6 +47,9 @@ void ColliderShape::validate() const {
   if (!offset.matrix().allFinite() || !(r.transpose() * r).isIdentity(1e-6))
     throw InputError(name + " collider: the offset pose must be finite with a unit quaternion");
   if (!std::isfinite(edge_radius)) throw InputError(name + " collider: edge radius must be finite");
+  if ((type == Type::kBox || type == Type::kCylinder) &&
+      !(effectiveEdgeRadius() < 0.5 * *std::min_element(dimensions.begin(), dimensions.end())))
+    throw InputError(name + " collider: edge radius must be below half the smallest dimension");
 }
 
 double ColliderShape::effectiveEdgeRadius() const {
@@ -68,17 +71,22 @@ std::shared_ptr<const RigidSurface> ColliderShape::makeSurface(
     case Type::kSphere:
       local = std::make_shared<SphereSurface>(o, dimensions[0]);
       break;
+    // The core's rounded solids grow their given box / cylinder by the edge radius except on
+    // top; shrink them first so that the solid has exactly the given outer size.
     case Type::kBox: {
+      const double e = effectiveEdgeRadius();
       const Eigen::Vector3d half =
           0.5 * Eigen::Vector3d(dimensions[0], dimensions[1], dimensions[2]);
-      local = std::make_shared<BoxSurface>(-half, half, effectiveEdgeRadius());
+      local = std::make_shared<BoxSurface>(-half + Eigen::Vector3d::Constant(e),
+                                           half - Eigen::Vector3d(e, e, 0.0), e);
       break;
     }
-    case Type::kCylinder:
-      local = std::make_shared<CylinderSurface>(Eigen::Vector2d::Zero(), dimensions[0],
-                                                -0.5 * dimensions[1], 0.5 * dimensions[1],
-                                                effectiveEdgeRadius());
+    case Type::kCylinder: {
+      const double e = effectiveEdgeRadius();
+      local = std::make_shared<CylinderSurface>(Eigen::Vector2d::Zero(), dimensions[0] - e,
+                                                -0.5 * dimensions[1] + e, 0.5 * dimensions[1], e);
       break;
+    }
   }
   return std::make_shared<PosedSurface>(local, world_from_frame * offset);
 }

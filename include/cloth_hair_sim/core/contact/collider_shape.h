@@ -16,8 +16,8 @@ namespace chs {
 //   sphere:   [radius]
 //   box:      [size_x, size_y, size_z], full edge lengths
 //   cylinder: [radius, length], axis along the shape frame's z
-// Boxes and cylinders get rounded edges (see BoxSurface): edge_radius < 0 picks
-// min(1 mm, smallest size / 100), as scene tables do.
+// Boxes and cylinders get rounded edges inside that outer size (see BoxSurface): edge_radius < 0
+// picks min(1 mm, smallest size / 100), as scene tables do.
 struct ColliderShape {
   enum class Type { kPlane, kSphere, kBox, kCylinder };
   Type type = Type::kPlane;
