@@ -140,26 +140,41 @@ BENCHMARK(BM_TableclothAssembly)
     ->MeasureProcessCPUTime()
     ->Unit(benchmark::kMillisecond);
 
-// UMFPACK on the tablecloth tangent. range(0) = 1: numeric factorisation + solve with the
-// symbolic analysis reused, as the arc-length solver does each iteration; 0: analysis too.
-void BM_TableclothLuSolve(benchmark::State& state) {
-  auto m = std::make_unique<TableclothModel>();
-  Eigen::VectorXd R, F0;
+// The tablecloth's tangent and residual at its flat reference state under the full load.
+struct TableclothTangent {
   Eigen::SparseMatrix<double> K;
-  m->model.linearize(1.0, R, F0, &K);
-  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu;
-  lu.analyzePattern(K);
-  const bool reuse_pattern = state.range(0) != 0;
+  Eigen::VectorXd R;
+  TableclothTangent() {
+    auto m = std::make_unique<TableclothModel>();
+    Eigen::VectorXd F0;
+    m->model.linearize(1.0, R, F0, &K);
+  }
+};
+
+// Numeric factorisation + one solve per iteration, the symbolic analysis done once (as the
+// arc-length solver does) unless reanalyse is set.
+template <class Solver>
+void timeFactorisation(benchmark::State& state, Solver& solver,
+                       const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b,
+                       bool reanalyse = false) {
   Eigen::VectorXd x;
+  solver.analyzePattern(A);
   for (auto _ : state) {
-    if (!reuse_pattern) lu.analyzePattern(K);
-    lu.factorize(K);
-    x = lu.solve(R);
+    if (reanalyse) solver.analyzePattern(A);
+    solver.factorize(A);
+    x = solver.solve(b);
     benchmark::DoNotOptimize(x.data());
   }
-  if (lu.info() != Eigen::Success) state.SkipWithError("UMFPACK failed on the tangent");
-  state.counters["dofs"] = static_cast<double>(K.rows());
-  state.counters["nnz"] = static_cast<double>(K.nonZeros());
+  if (solver.info() != Eigen::Success) state.SkipWithError("factorisation failed");
+  state.counters["dofs"] = static_cast<double>(A.rows());
+  state.counters["nnz"] = static_cast<double>(A.nonZeros());
+}
+
+// UMFPACK, what the solver uses. range(0) = 1: pattern analysis reused; 0: redone each time.
+void BM_TableclothLuSolve(benchmark::State& state) {
+  const TableclothTangent t;
+  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu;
+  timeFactorisation(state, lu, t.K, t.R, state.range(0) == 0);
 }
 BENCHMARK(BM_TableclothLuSolve)
     ->Arg(1)
@@ -168,30 +183,16 @@ BENCHMARK(BM_TableclothLuSolve)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
-// Eigen's supernodal SparseLU on the same tangent, numeric factorisation + solve with the
-// ordering and symbolic analysis reused: range(0) 0 = COLAMD, 1 = AMD on A^T + A.
+// Eigen's supernodal SparseLU on the same tangent: range(0) 0 = COLAMD, 1 = AMD on A^T + A.
 void BM_TableclothSparseLu(benchmark::State& state) {
-  auto m = std::make_unique<TableclothModel>();
-  Eigen::VectorXd R, F0, x;
-  Eigen::SparseMatrix<double> K;
-  m->model.linearize(1.0, R, F0, &K);
-  auto run = [&](auto& lu) {
-    lu.analyzePattern(K);
-    for (auto _ : state) {
-      lu.factorize(K);
-      x = lu.solve(R);
-      benchmark::DoNotOptimize(x.data());
-    }
-    if (lu.info() != Eigen::Success) state.SkipWithError("SparseLU failed on the tangent");
-  };
+  const TableclothTangent t;
   if (state.range(0) == 0) {
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-    run(lu);
+    timeFactorisation(state, lu, t.K, t.R);
   } else {
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::AMDOrdering<int>> lu;
-    run(lu);
+    timeFactorisation(state, lu, t.K, t.R);
   }
-  state.counters["dofs"] = static_cast<double>(K.rows());
 }
 BENCHMARK(BM_TableclothSparseLu)
     ->Arg(0)
@@ -200,32 +201,20 @@ BENCHMARK(BM_TableclothSparseLu)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
-// Symmetric factorisations of the symmetrised tangent (K + K^T)/2, for scale: range(0) 0 =
-// Eigen SimplicialLDLT (AMD), 1 = CHOLMOD supernodal LDL^T.
-void BM_TableclothSymmetricLdlt(benchmark::State& state) {
-  auto m = std::make_unique<TableclothModel>();
-  Eigen::VectorXd R, F0, x;
-  Eigen::SparseMatrix<double> K;
-  m->model.linearize(1.0, R, F0, &K);
-  const Eigen::SparseMatrix<double> S = 0.5 * (K + Eigen::SparseMatrix<double>(K.transpose()));
-  auto run = [&](auto& f) {
-    f.analyzePattern(S);
-    for (auto _ : state) {
-      f.factorize(S);
-      x = f.solve(R);
-      benchmark::DoNotOptimize(x.data());
-    }
-    if (f.info() != Eigen::Success) state.SkipWithError("LDLT failed");
-  };
+// Symmetric factorisations of (K + K^T)/2, for scale: range(0) 0 = Eigen SimplicialLDLT (AMD),
+// 1 = CHOLMOD supernodal LL^T.
+void BM_TableclothSymmetric(benchmark::State& state) {
+  const TableclothTangent t;
+  const Eigen::SparseMatrix<double> S = 0.5 * (t.K + Eigen::SparseMatrix<double>(t.K.transpose()));
   if (state.range(0) == 0) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> f;
-    run(f);
+    timeFactorisation(state, f, S, t.R);
   } else {
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> f;
-    run(f);
+    timeFactorisation(state, f, S, t.R);
   }
 }
-BENCHMARK(BM_TableclothSymmetricLdlt)
+BENCHMARK(BM_TableclothSymmetric)
     ->Arg(0)
     ->Arg(1)
     ->ArgName("cholmod")
