@@ -3,8 +3,8 @@
 #include <cmath>
 #include <memory>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/contact/collider_shape.h"
@@ -28,10 +28,9 @@ TEST(PosedSurface, MatchesTheLocalSurfaceMovedRigidly) {
                                           Eigen::Vector3d(0.1, 0.2, 0.3), 0.01);
   const Eigen::Isometry3d t = pose({0.5, -1.0, 2.0}, 0.7, {1.0, 2.0, 3.0});
   const PosedSurface posed(box, t);
-  for (const Eigen::Vector3d& local : {Eigen::Vector3d(0.3, 0.05, 0.1),
-                                      Eigen::Vector3d(0.0, 0.0, 0.35),
-                                      Eigen::Vector3d(0.11, 0.21, 0.31),
-                                      Eigen::Vector3d(0.02, -0.1, 0.0)}) {
+  for (const Eigen::Vector3d& local :
+       {Eigen::Vector3d(0.3, 0.05, 0.1), Eigen::Vector3d(0.0, 0.0, 0.35),
+        Eigen::Vector3d(0.11, 0.21, 0.31), Eigen::Vector3d(0.02, -0.1, 0.0)}) {
     const SurfaceProjection a = box->project(local), b = posed.project(t * local);
     EXPECT_NEAR(a.gap, b.gap, 1e-12);
     EXPECT_LT((t.linear() * a.normal - b.normal).norm(), 1e-12);
@@ -77,9 +76,9 @@ TEST(ColliderShape, TableTopFromFrameAndOffset) {
   // Turned by 90 degrees: the 0.8 m side lies along world y.
   EXPECT_NEAR(s->project({1.0, 2.5, 0.5}).gap, 0.1, 1e-12);
   EXPECT_NEAR(s->project({1.4, 2.0, 0.5}).gap, 0.1, 1e-12);
-  EXPECT_LT(s->project({1.0, 2.0, 0.5}).gap, 0.0);  // inside
+  EXPECT_LT(s->project({1.0, 2.0, 0.5}).gap, 0.0);            // inside
   EXPECT_NEAR(s->project({1.0, 2.0, -0.1}).gap, 0.1, 1e-12);  // below the bottom
-  table.edge_radius = 0.3;  // no room for such rounding
+  table.edge_radius = 0.3;                                    // no room for such rounding
   EXPECT_THROW(table.validate(), InputError);
 }
 

@@ -16,14 +16,16 @@ double number(XmlRpc::XmlRpcValue& v, const std::string& where) {
 }
 
 std::vector<double> numbers(XmlRpc::XmlRpcValue& v, const std::string& where) {
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray) throw chs::InputError(where + ": must be a list");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray)
+    throw chs::InputError(where + ": must be a list");
   std::vector<double> out;
   for (int i = 0; i < v.size(); ++i) out.push_back(number(v[i], where));
   return out;
 }
 
 std::string text(XmlRpc::XmlRpcValue& v, const std::string& where) {
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeString) throw chs::InputError(where + ": must be text");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeString)
+    throw chs::InputError(where + ": must be text");
   return static_cast<std::string>(v);
 }
 
@@ -38,9 +40,12 @@ Eigen::Isometry3d parseOffset(XmlRpc::XmlRpcValue& v, const std::string& where) 
     throw chs::InputError(where + ": must be {xyz: [x, y, z], rpy: [roll, pitch, yaw]}");
   Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
   for (auto& kv : v) {
-    if (kv.first == "xyz") xyz = triple(kv.second, where + ".xyz");
-    else if (kv.first == "rpy") rpy = triple(kv.second, where + ".rpy");
-    else throw chs::InputError(where + ": unknown key '" + kv.first + "'");
+    if (kv.first == "xyz")
+      xyz = triple(kv.second, where + ".xyz");
+    else if (kv.first == "rpy")
+      rpy = triple(kv.second, where + ".rpy");
+    else
+      throw chs::InputError(where + ": unknown key '" + kv.first + "'");
   }
   // URDF convention: fixed-axis roll, pitch, yaw = R_z(yaw) R_y(pitch) R_x(roll).
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -60,20 +65,27 @@ std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list) {
   for (int i = 0; i < list.size(); ++i) {
     std::string where = "~colliders[" + std::to_string(i) + "]";
     XmlRpc::XmlRpcValue& c = list[i];
-    if (c.getType() != XmlRpc::XmlRpcValue::TypeStruct) throw chs::InputError(where + ": must be a mapping");
+    if (c.getType() != XmlRpc::XmlRpcValue::TypeStruct)
+      throw chs::InputError(where + ": must be a mapping");
     TrackedCollider t;
     bool has_shape = false;
     for (auto& kv : c) {
       const std::string& key = kv.first;
-      if (key == "name") t.name = text(kv.second, where + ".name");
-      else if (key == "frame_id") t.frame_id = text(kv.second, where + ".frame_id");
+      if (key == "name")
+        t.name = text(kv.second, where + ".name");
+      else if (key == "frame_id")
+        t.frame_id = text(kv.second, where + ".frame_id");
       else if (key == "shape") {
         t.shape.type = chs::parseColliderType(text(kv.second, where + ".shape"));
         has_shape = true;
-      } else if (key == "dimensions") t.shape.dimensions = numbers(kv.second, where + ".dimensions");
-      else if (key == "offset") t.shape.offset = parseOffset(kv.second, where + ".offset");
-      else if (key == "edge_radius") t.shape.edge_radius = number(kv.second, where + ".edge_radius");
-      else throw chs::InputError(where + ": unknown key '" + key + "'");
+      } else if (key == "dimensions")
+        t.shape.dimensions = numbers(kv.second, where + ".dimensions");
+      else if (key == "offset")
+        t.shape.offset = parseOffset(kv.second, where + ".offset");
+      else if (key == "edge_radius")
+        t.shape.edge_radius = number(kv.second, where + ".edge_radius");
+      else
+        throw chs::InputError(where + ": unknown key '" + key + "'");
     }
     if (t.name.empty()) throw chs::InputError(where + ": needs a name");
     where = "collider '" + t.name + "'";
@@ -102,8 +114,8 @@ bool ColliderTracker::update() {
     if (buffer_.canTransform(world_frame_, c.frame_id, ros::Time(0), ros::Duration(timeout_s_),
                              &error)) {
       try {
-        const Eigen::Isometry3d pose = tf2::transformToEigen(
-            buffer_.lookupTransform(world_frame_, c.frame_id, ros::Time(0)));
+        const Eigen::Isometry3d pose =
+            tf2::transformToEigen(buffer_.lookupTransform(world_frame_, c.frame_id, ros::Time(0)));
         if (pose.matrix().allFinite()) {
           c.world_from_frame = pose;
           c.has_pose = true;

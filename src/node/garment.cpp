@@ -15,7 +15,8 @@ using chs::InputError;
 
 chs::QuadMesh garmentMesh(const cloth_hair_sim::LoadGarment::Request& req) {
   const double scale = req.scale == 0.0 ? 1.0 : req.scale;
-  if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError("scale must be positive and finite");
+  if (!(scale > 0.0) || !std::isfinite(scale))
+    throw InputError("scale must be positive and finite");
   if (!req.mesh_file.empty()) {
     if (!req.rectangle_size.empty() || !req.rectangle_cells.empty())
       throw InputError("give either mesh_file or rectangle_size, not both");

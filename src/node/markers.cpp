@@ -46,7 +46,8 @@ visualization_msgs::Marker garmentMarker(const chs::QuadMesh& mesh,
   m.color = palette(colour);
   m.points.reserve(mesh.quads.size() * 12);
   for (const auto& q : mesh.quads) {
-    for (const auto& t : {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
+    for (const auto& t :
+         {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
       for (int k : {0, 1, 2}) m.points.push_back(point(x[t[k]]));  // front
       for (int k : {0, 2, 1}) m.points.push_back(point(x[t[k]]));  // back
     }
@@ -94,7 +95,8 @@ shape_msgs::Mesh meshMessage(const chs::QuadMesh& mesh, const std::vector<Eigen:
   shape_msgs::Mesh out;
   for (const auto& v : x) out.vertices.push_back(point(v));
   for (const auto& q : mesh.quads) {
-    for (const auto& t : {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
+    for (const auto& t :
+         {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
       shape_msgs::MeshTriangle tri;
       for (int k = 0; k < 3; ++k) tri.vertex_indices[k] = static_cast<uint32_t>(t[k]);
       out.triangles.push_back(tri);

@@ -52,16 +52,17 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   pause_srv_ = pnh_.advertiseService("pause", &SimNode::pause, this);
   step_srv_ = pnh_.advertiseService("step", &SimNode::step, this);
   drape_srv_ = pnh_.advertiseService("drape_solve", &SimNode::drapeSolve, this);
-  step_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
+  step_timer_ =
+      nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
   status_timer_ =
       nh_.createTimer(ros::Duration(1.0 / params_.status_rate), &SimNode::onStatusTimer, this);
   marker_timer_ =
       nh_.createTimer(ros::Duration(1.0 / params_.marker_rate), &SimNode::onMarkerTimer, this);
-  ROS_INFO("cloth_hair_sim_node: world frame '%s', %zu colliders, backend %s, dt %g s, %g Hz, "
-           "real-time factor %g",
-           params_.world_frame.c_str(), colliders_.colliders().size(),
-           params_.dynamics_backend.c_str(), params_.dt, params_.step_rate,
-           params_.real_time_factor);
+  ROS_INFO(
+      "cloth_hair_sim_node: world frame '%s', %zu colliders, backend %s, dt %g s, %g Hz, "
+      "real-time factor %g",
+      params_.world_frame.c_str(), colliders_.colliders().size(), params_.dynamics_backend.c_str(),
+      params_.dt, params_.step_rate, params_.real_time_factor);
 }
 
 void SimNode::refreshColliders() {
@@ -108,8 +109,8 @@ void SimNode::stepGarment(Garment& g, double h, int depth) {
   // Still diverging at a sixteenth of the step: stop the garment where it was rather than
   // publish garbage; the node carries on.
   g.dynamics->setVelocities(std::vector<Eigen::Vector3d>(v.size(), Eigen::Vector3d::Zero()));
-  ROS_ERROR_THROTTLE(5.0, "garment '%s' diverges even at dt %g s: stopped in place",
-                     g.name.c_str(), h);
+  ROS_ERROR_THROTTLE(5.0, "garment '%s' diverges even at dt %g s: stopped in place", g.name.c_str(),
+                     h);
 }
 
 void SimNode::advance(int count, double h) {
@@ -124,7 +125,8 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   std::lock_guard<std::mutex> lock(mutex_);
   refreshColliders();
   const double period = 1.0 / params_.step_rate;
-  double elapsed = event.last_real.isZero() ? period : (event.current_real - event.last_real).toSec();
+  double elapsed =
+      event.last_real.isZero() ? period : (event.current_real - event.last_real).toSec();
   if (!(elapsed > 0.0)) elapsed = period;
   if (paused_ || garments_.empty()) {  // keeps the substep of the last ~step for the status
     last_.substeps = 0;
@@ -327,8 +329,8 @@ bool SimNode::step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSi
     last_.dt = h;
     last_.substeps = req.steps;
     res.success = true;
-    res.message = "advanced " + std::to_string(req.steps) + " substeps of " + std::to_string(h) +
-                  " s";
+    res.message =
+        "advanced " + std::to_string(req.steps) + " substeps of " + std::to_string(h) + " s";
   }
   res.sim_time = sim_time_;
   return true;

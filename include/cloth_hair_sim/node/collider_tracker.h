@@ -2,9 +2,9 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <tf2_ros/buffer.h>
 #include <xmlrpcpp/XmlRpcValue.h>
+#include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/contact/collider_shape.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"

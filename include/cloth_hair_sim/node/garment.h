@@ -18,7 +18,7 @@ struct Garment {
   std::string material_name;
   chs::DrapeProblem reference;
   std::unique_ptr<chs::ParticleDynamics> dynamics;
-  double stable_dt = 0.0;   // [s] substep the explicit integrator tolerates
+  double stable_dt = 0.0;        // [s] substep the explicit integrator tolerates
   std::uint64_t generation = 0;  // set anew on load and reset: a finished drape checks it
   int colour = 0;
 };
@@ -32,8 +32,7 @@ Eigen::Isometry3d poseFromMsg(const geometry_msgs::Pose& pose);
 // vertex indices).
 Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
                      const Eigen::Isometry3d& world_from_request_frame,
-                     const Eigen::Vector3d& gravity,
-                     const chs::ParticleDynamicsSettings& settings);
+                     const Eigen::Vector3d& gravity, const chs::ParticleDynamicsSettings& settings);
 
 // A fresh dynamic state at the garment's reference (reset).
 void resetDynamics(Garment& garment, const chs::ParticleDynamicsSettings& settings);

@@ -2,9 +2,9 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
 #include <shape_msgs/Mesh.h>
 #include <visualization_msgs/Marker.h>
+#include <Eigen/Core>
 
 #include "cloth_hair_sim/core/mesh/quad_mesh.h"
 #include "cloth_hair_sim/node/collider_tracker.h"

@@ -1,8 +1,8 @@
 #pragma once
 #include <string>
 
-#include <Eigen/Core>
 #include <ros/node_handle.h>
+#include <Eigen/Core>
 
 namespace chs_node {
 
@@ -10,17 +10,17 @@ namespace chs_node {
 struct SimParams {
   std::string world_frame = "world";
   std::string dynamics_backend = "particle";  // the only backend until the hybrid one lands
-  double dt = 1e-3;                 // [s] largest substep (garments may need smaller: stable step)
-  double step_rate = 100.0;         // [Hz] updates per second
-  double real_time_factor = 1.0;    // simulated / wall (or /clock) seconds; 0: as fast as possible
-  int max_substeps = 500;           // per update; beyond it the simulation falls behind
-  double status_rate = 10.0;        // [Hz]
-  double marker_rate = 10.0;        // [Hz]
-  bool show_colliders = true;       // collider markers in the "colliders" namespace
+  double dt = 1e-3;               // [s] largest substep (garments may need smaller: stable step)
+  double step_rate = 100.0;       // [Hz] updates per second
+  double real_time_factor = 1.0;  // simulated / wall (or /clock) seconds; 0: as fast as possible
+  int max_substeps = 500;         // per update; beyond it the simulation falls behind
+  double status_rate = 10.0;      // [Hz]
+  double marker_rate = 10.0;      // [Hz]
+  bool show_colliders = true;     // collider markers in the "colliders" namespace
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  // [m/s^2] in the world frame
-  double damping = 0.5;             // [1/s] viscous damping of the particle dynamics
-  double max_speed = 50.0;          // [m/s] a faster vertex counts as a diverged step
-  double tf_timeout = 0.01;         // [s] wait for a collider's transform in each update
+  double damping = 0.5;      // [1/s] viscous damping of the particle dynamics
+  double max_speed = 50.0;   // [m/s] a faster vertex counts as a diverged step
+  double tf_timeout = 0.01;  // [s] wait for a collider's transform in each update
 };
 
 // Reads ~ parameters over the defaults; throws chs::InputError naming a bad one.

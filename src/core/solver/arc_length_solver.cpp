@@ -303,6 +303,7 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
         problem.restore();
         stab_scale *= 10.0;
         previous = 0.0;
+        if (stab_scale > 1e8) break;  // even a near-frozen step fails: stalled
         continue;
       }
       if (previous > 0.0) stab_scale *= std::clamp(r / previous, 0.1, 4.0);
@@ -312,8 +313,10 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
     if (!settled) {
       problem.restore();  // the state of least residual
       out.status = "the stabilised drape did not settle to equilibrium in " +
-                   std::to_string(settling) + " pseudo-time steps (residual " +
-                   std::to_string(runner.residual()) + "); returning its last state";
+                   std::to_string(settling) + " pseudo-time steps (least residual " +
+                   std::to_string(best) +
+                   (stab_scale > 1e8 ? ", stalled: no damped step helps" : "") +
+                   "); returning the state of least residual";
       return out;
     }
     problem.save();
