@@ -207,8 +207,7 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
   bool failed = false;
   problem.save();
 
-  while (!failed) {
-    if (lambda >= 1.0) break;
+  while (!failed && lambda < 1.0) {
     if (out.load_steps >= s.max_load_steps) {
       std::ostringstream msg;
       msg << "stopped after " << s.max_load_steps << " load steps at load factor " << lambda;

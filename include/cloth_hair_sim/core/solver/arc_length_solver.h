@@ -20,8 +20,9 @@ struct ArcLengthSettings {
   // points that path following steps over. With stabilization > 0 each load step is a strongly
   // damped pseudo-time step: a viscous force -c m (x - x_n) (c = stabilization |g| / l_e per unit
   // mass) lets the cloth leave unstable branches, as Abaqus' *STATIC, STABILIZE does. Load
-  // control is used; at lambda = 1 steps continue until the cloth stops moving, and a final
-  // Newton solve without the viscous force proves the result is a true equilibrium.
+  // control is used; at lambda = 1 pseudo-transient continuation (one Newton iteration per
+  // pseudo-time step, damping relaxed as the residual falls) runs until the residual without
+  // any viscous force is below tolerance: only a true equilibrium counts as converged.
   double stabilization = 0.0;
   int max_settling_steps = 200;
 };
