@@ -1,0 +1,36 @@
+#pragma once
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace chs::mpm {
+
+// Background grid that stores nodes only where particles are: a hash from integer node
+// coordinates to dense node arrays, rebuilt (activate) each step. Node i sits at i dx.
+class SparseGrid {
+ public:
+  explicit SparseGrid(double dx);
+
+  double spacing() const { return dx_; }
+  int size() const { return static_cast<int>(coord_.size()); }
+  void clear();
+  // Index of node c, created with zero state when new.
+  int activate(const Eigen::Vector3i& c);
+  // Index of node c, or -1 when the node is not active.
+  int find(const Eigen::Vector3i& c) const;
+  Eigen::Vector3d position(int node) const { return coord_[node].cast<double>() * dx_; }
+  const Eigen::Vector3i& coordinate(int node) const { return coord_[node]; }
+
+  std::vector<double> mass;
+  std::vector<Eigen::Vector3d> momentum, velocity;
+
+ private:
+  static std::uint64_t key(const Eigen::Vector3i& c);
+  double dx_;
+  std::unordered_map<std::uint64_t, int> index_;
+  std::vector<Eigen::Vector3i> coord_;
+};
+
+}  // namespace chs::mpm

@@ -1,0 +1,29 @@
+#pragma once
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/mpm/mpm_particles.h"
+#include "cloth_hair_sim/core/mpm/sparse_grid.h"
+
+namespace chs::mpm {
+
+// The stages of an explicit MPM step (Han chapter 3), each a function over the particles and
+// the grid; `degree` is the B-spline degree, 2 (quadratic) or 3 (cubic).
+
+// Han (3.1)-(3.2): APIC particle-to-grid transfer of mass and momentum. Clears the grid and
+// activates the nodes the particles touch. Threads accumulate into private arrays that are
+// summed afterwards, so the scatter has no races.
+void particleToGrid(const Particles& particles, SparseGrid& grid, int degree);
+
+// Han (3.8) and (3.10), symplectic Euler with gravity and no internal forces yet:
+// v_i = (m_i v_i + dt m_i g) / m_i.
+void updateGridVelocity(SparseGrid& grid, const Eigen::Vector3d& gravity, double dt);
+
+// Han (3.13)-(3.17): grid-to-particle velocity and affine velocity (APIC), RPIC damping nu in
+// [0, 1] (3.15), then positions (3.16) and deformation gradients (3.17).
+void gridToParticle(const SparseGrid& grid, Particles& particles, int degree, double rpic_damping,
+                    double dt);
+
+// CFL-limited time step: no particle crosses more than `cfl` cells, and at most dt_max.
+double cflTimeStep(const Particles& particles, double dx, double cfl, double dt_max);
+
+}  // namespace chs::mpm
