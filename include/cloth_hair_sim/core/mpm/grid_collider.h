@@ -1,0 +1,35 @@
+#pragma once
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/mpm/sparse_grid.h"
+
+namespace chs::mpm {
+
+// How a grid node inside a collider moves relative to it (Han section 3.4, after [30]):
+// sticky takes the collider's velocity; slip keeps only the tangential relative velocity;
+// separating does that only while the node approaches and lets it leave freely. Slip and
+// separating apply Coulomb friction with coefficient mu to the tangential part.
+enum class ColliderBoundary { kSticky, kSlip, kSeparating };
+
+struct GridCollider {
+  std::shared_ptr<const RigidSurface> surface;         // signed distance and normal
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // kinematic, translational
+  ColliderBoundary boundary = ColliderBoundary::kSeparating;
+  double friction = 0.0;  // mu
+};
+
+// The velocity of a node at relative velocity v_rel = v - v_collider against outward normal n,
+// in the collider's frame: the projection and Coulomb return mapping (|v_t| reduced by
+// mu |v_n|, stopped when that exceeds it).
+Eigen::Vector3d collideRelativeVelocity(const Eigen::Vector3d& v_rel, const Eigen::Vector3d& n,
+                                        ColliderBoundary boundary, double friction);
+
+// Applies every collider to every grid node with mass whose position lies inside it (signed
+// distance <= 0), after the grid velocity update and before grid-to-particle.
+void applyGridColliders(SparseGrid& grid, const std::vector<GridCollider>& colliders);
+
+}  // namespace chs::mpm
