@@ -219,7 +219,9 @@ void ShellModel::setStabilization(double factor) {
 
 void ShellModel::perturb(double amplitude, unsigned seed) {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-amplitude, amplitude);
+  // One-sided, along +director: a perturbation into a support would start with a penalty force
+  // far above the weight.
+  std::uniform_real_distribution<double> u(0.0, amplitude);
   for (std::size_t v = 0; v < nodes_.size(); ++v) {
     const double a = u(rng);
     if (dof_[5 * v + 2] >= 0) nodes_[v].position += a * nodes_[v].frame.director();

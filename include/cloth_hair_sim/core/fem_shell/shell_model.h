@@ -24,7 +24,7 @@ class ShellModel : public ContinuationProblem {
   void restore() override { nodes_ = saved_; }
   void setStabilization(double factor) override;
   void anchorHere() override { anchor_ = nodes_; }
-  // Seeded random displacement of the free nodes along their directors, amplitude a: the
+  // Seeded random displacement in [0, a] of the free nodes along their directors: the
   // imperfection that lets a perfectly flat sheet choose its folds.
   void perturb(double amplitude, unsigned seed);
   double loadNorm() const override { return load_norm_; }
