@@ -105,7 +105,7 @@ TEST(ColliderShape, RefusesNonsense) {
   EXPECT_NO_THROW(c.validate());
   c.type = ColliderShape::Type::kBox;
   EXPECT_THROW(c.validate(), InputError);  // needs three sizes
-  EXPECT_THROW(parseColliderType("capsule"), InputError);
+  EXPECT_THROW(parseColliderType("cone"), InputError);
   EXPECT_EQ(colliderTypeName(parseColliderType("plane")), "plane");
 }
 

@@ -1,6 +1,8 @@
 #include "cloth_hair_sim/node/markers.h"
 
 #include <array>
+#include <cmath>
+#include <utility>
 
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -29,6 +31,28 @@ std_msgs::ColorRGBA palette(int i) {
   out.b = c[2];
   out.a = 1.0f;
   return out;
+}
+
+// rviz has no capsule primitive: a triangulated one, centred on its frame, axis z.
+void addCapsuleTriangles(double radius, double length, visualization_msgs::Marker& m) {
+  const int half_rings = 4, segments = 16;
+  std::vector<std::pair<double, double>> rings;  // (ring radius, z), bottom pole to top pole
+  for (int i = 0; i <= 2 * half_rings + 1; ++i) {
+    const bool top = i > half_rings;
+    const double phi = M_PI / 2 * ((top ? i - 1 : i) - half_rings) / half_rings;
+    rings.emplace_back(radius * std::cos(phi),
+                       radius * std::sin(phi) + (top ? 0.5 : -0.5) * length);
+  }
+  auto at = [&](size_t ring, int seg) {
+    const double a = 2.0 * M_PI * seg / segments;
+    return point(Eigen::Vector3d(rings[ring].first * std::cos(a), rings[ring].first * std::sin(a),
+                                 rings[ring].second));
+  };
+  for (size_t i = 0; i + 1 < rings.size(); ++i)
+    for (int j = 0; j < segments; ++j)
+      for (const auto& p :
+           {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i + 1, j)})
+        m.points.push_back(p);
 }
 
 }  // namespace
@@ -85,6 +109,11 @@ visualization_msgs::Marker colliderMarker(const TrackedCollider& c, int id) {
       m.type = visualization_msgs::Marker::CYLINDER;
       m.scale.x = m.scale.y = 2.0 * d[0];
       m.scale.z = d[1];
+      break;
+    case chs::ColliderShape::Type::kCapsule:
+      m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+      m.scale.x = m.scale.y = m.scale.z = 1.0;
+      addCapsuleTriangles(d[0], d[1], m);
       break;
   }
   m.pose = tf2::toMsg(pose);

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include <geometry_msgs/WrenchStamped.h>
+#include <ros/names.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -10,6 +13,7 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/scene.h"
 #include "cloth_hair_sim/node/markers.h"
+#include "cloth_hair_sim/node/urdf_colliders.h"
 
 namespace chs_node {
 namespace {
@@ -41,7 +45,10 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       tf_listener_(tf_buffer_),
       colliders_(tf_buffer_, params_.world_frame, params_.tf_timeout) {
   dynamics_settings_.damping = params_.damping;
-  colliders_.setColliders(collidersParam(pnh_));
+  pnh_.param("tf_delay", tf_delay_, tf_delay_);
+  if (!(tf_delay_ >= 0.0) || !std::isfinite(tf_delay_))
+    throw chs::InputError("parameter tf_delay must be >= 0 (s)");
+  colliders_.setColliders(withUrdfColliders(pnh_, collidersParam(pnh_)));
 
   status_pub_ = pnh_.advertise<cloth_hair_sim::SimStatus>("status", 10);
   marker_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1);
@@ -52,6 +59,8 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   pause_srv_ = pnh_.advertiseService("pause", &SimNode::pause, this);
   step_srv_ = pnh_.advertiseService("step", &SimNode::step, this);
   drape_srv_ = pnh_.advertiseService("drape_solve", &SimNode::drapeSolve, this);
+  grasp_srv_ = pnh_.advertiseService("grasp", &SimNode::grasp, this);
+  release_srv_ = pnh_.advertiseService("release", &SimNode::release, this);
   step_timer_ =
       nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
   status_timer_ =
@@ -114,16 +123,188 @@ void SimNode::stepGarment(Garment& g, double h, int depth) {
 }
 
 void SimNode::advance(int count, double h) {
+  // Kinematic inputs (tf-posed colliders, frame pins, grasps) move from their pose at the start
+  // of the update to the current one across its substeps, colliders with the matching velocity:
+  // a frame that moved between updates neither jerks the cloth nor tunnels through it.
+  struct Moving {
+    const TrackedCollider* collider;
+    Eigen::Isometry3d from;
+  };
+  std::vector<Moving> colliders;
+  bool any_moving = false;
+  for (const auto& c : colliders_.colliders()) {
+    if (!c.has_pose) continue;
+    const auto it = collider_from_.find(c.name);
+    const Eigen::Isometry3d from = it == collider_from_.end() ? c.world_from_frame : it->second;
+    any_moving = any_moving || from.matrix() != c.world_from_frame.matrix();
+    colliders.push_back({&c, from});
+  }
+  std::vector<std::pair<Garment*, FrameAttachment*>> attached;
+  for (auto& [name, g] : garments_)
+    for (auto& a : g.frame_pins) attached.push_back({&g, &a});
+  for (auto& [name, grasp] : grasps_) {
+    const auto it = garments_.find(grasp.garment);
+    if (it != garments_.end()) attached.push_back({&it->second, &grasp.attachment});
+  }
+  const double duration = count * h;
   for (int i = 0; i < count; ++i) {
+    const double alpha = static_cast<double>(i + 1) / count;
+    for (auto& [g, a] : attached) a->pinAt(*g->dynamics, alpha);
+    if (any_moving) {
+      try {
+        chs::RigidSurfaces surfaces;
+        std::vector<chs::SurfaceVelocity> velocities;
+        for (const auto& m : colliders) {
+          const Eigen::Isometry3d to = m.collider->world_from_frame;
+          const Eigen::Isometry3d pose = interpolate(m.from, to, alpha);
+          surfaces.push_back(m.collider->shape.makeSurface(pose));
+          velocities.push_back(rigidVelocity(m.from, to, duration));
+          velocities.back().origin = pose.translation();
+        }
+        for (auto& [name, g] : garments_) g.dynamics->setColliders(surfaces, velocities);
+      } catch (const std::exception&) {  // refreshColliders has logged it: no interpolation
+        any_moving = false;
+      }
+    }
     for (auto& [name, g] : garments_) stepGarment(g, h, 0);
+    for (auto& [name, grasp] : grasps_) {
+      const auto it = garments_.find(grasp.garment);
+      if (it == garments_.end()) continue;
+      const FrameAttachment& a = grasp.attachment;
+      const chs::HoldingWrench w = chs::holdingWrench(
+          *it->second.dynamics, a.vertices, interpolate(a.from, a.to, alpha).translation());
+      grasp.sum.force += w.force;
+      grasp.sum.torque += w.torque;
+      ++grasp.samples;
+    }
     sim_time_ += h;
     ++steps_;
   }
+  // The next update starts where this one ended.
+  for (const auto& m : colliders) collider_from_[m.collider->name] = m.collider->world_from_frame;
+  for (auto& [g, a] : attached) a->from = a->to;
+}
+
+bool SimNode::lookupFrame(const std::string& frame, double timeout, Eigen::Isometry3d& pose,
+                          std::string* error) {
+  if (frame == params_.world_frame) {
+    pose = Eigen::Isometry3d::Identity();
+    return true;
+  }
+  // At a steady delay behind now (see tf_delay_); failing that (a frame published rarely or not
+  // any more, the start), the latest pose.
+  const ros::Time now = ros::Time::now();
+  ros::Time time(0);
+  if (tf_delay_ > 0.0 && now.toSec() > tf_delay_ &&
+      tf_buffer_.canTransform(params_.world_frame, frame, now - ros::Duration(tf_delay_)))
+    time = now - ros::Duration(tf_delay_);
+  else if (!tf_buffer_.canTransform(params_.world_frame, frame, time, ros::Duration(timeout),
+                                    error))
+    return false;
+  try {
+    pose = tf2::transformToEigen(tf_buffer_.lookupTransform(params_.world_frame, frame, time));
+  } catch (const tf2::TransformException& e) {
+    if (error) *error = e.what();
+    return false;
+  }
+  if (pose.matrix().allFinite()) return true;
+  if (error) *error = "the transform is not finite";
+  return false;
+}
+
+void SimNode::refreshAttachments() {
+  struct Lookup {
+    bool ok = false;
+    Eigen::Isometry3d pose;
+  };
+  std::map<std::string, Lookup> frames;  // one lookup per frame and update
+  auto update = [&](FrameAttachment& a) {
+    auto it = frames.find(a.frame_id);
+    if (it == frames.end()) {
+      Lookup l;
+      std::string error;
+      l.ok = lookupFrame(a.frame_id, params_.tf_timeout, l.pose, &error);
+      if (!l.ok)
+        ROS_WARN_THROTTLE(5.0,
+                          "frame '%s' of attached vertices has no transform to '%s' (%s): they "
+                          "hold their last pose",
+                          a.frame_id.c_str(), params_.world_frame.c_str(), error.c_str());
+      it = frames.emplace(a.frame_id, l).first;
+    }
+    a.stale = !it->second.ok;
+    if (it->second.ok) a.to = it->second.pose;
+    transforms_ok_ = transforms_ok_ && it->second.ok;
+  };
+  for (auto& [name, g] : garments_)
+    for (auto& a : g.frame_pins) update(a);
+  for (auto& [name, grasp] : grasps_) update(grasp.attachment);
+}
+
+void SimNode::publishGraspWrenches(double duration) {
+  const ros::Time now = ros::Time::now();
+  for (auto& [name, grasp] : grasps_) {
+    const auto it = garments_.find(grasp.garment);
+    if (it == garments_.end()) continue;
+    const chs::ParticleDynamics& dyn = *it->second.dynamics;
+    const std::vector<int>& held = grasp.attachment.vertices;
+    const Eigen::Isometry3d& frame = grasp.attachment.to;
+    chs::HoldingWrench hold;
+    if (grasp.samples > 0) {
+      hold.force = grasp.sum.force / grasp.samples;
+      hold.torque = grasp.sum.torque / grasp.samples;
+    } else {  // nothing simulated (paused): the wrench of the state as it is
+      hold = chs::holdingWrench(dyn, held, frame.translation());
+    }
+    grasp.sum = chs::HoldingWrench();
+    grasp.samples = 0;
+    // The held vertices' mean acceleration over the update: the inertia the grasp also carries.
+    std::vector<Eigen::Vector3d> velocity;
+    for (int v : held) velocity.push_back(dyn.velocities()[v]);
+    if (duration > 0.0) {
+      if (grasp.last_velocity.size() == held.size())
+        for (size_t k = 0; k < held.size(); ++k) {
+          const Eigen::Vector3d f =
+              dyn.masses()[held[k]] * (velocity[k] - grasp.last_velocity[k]) / duration;
+          hold.force += f;
+          hold.torque += (dyn.positions()[held[k]] - frame.translation()).cross(f);
+        }
+      grasp.last_velocity = velocity;
+    }
+    // The cloth pulls on the gripper with the opposite of the wrench that holds it; expressed
+    // in the gripper frame, as a wrist force-torque sensor would report it.
+    const Eigen::Vector3d f = frame.linear().transpose() * -hold.force;
+    const Eigen::Vector3d t = frame.linear().transpose() * -hold.torque;
+    geometry_msgs::WrenchStamped msg;
+    msg.header.stamp = now;
+    msg.header.frame_id = grasp.attachment.frame_id;
+    msg.wrench.force.x = f.x();
+    msg.wrench.force.y = f.y();
+    msg.wrench.force.z = f.z();
+    msg.wrench.torque.x = t.x();
+    msg.wrench.torque.y = t.y();
+    msg.wrench.torque.z = t.z();
+    grasp.wrench_pub.publish(msg);
+  }
+}
+
+std::vector<std::string> SimNode::dropGrasps(const std::string& garment) {
+  std::vector<std::string> names;
+  for (auto it = grasps_.begin(); it != grasps_.end();) {
+    if (it->second.garment == garment) {
+      names.push_back(it->first);
+      it->second.wrench_pub.shutdown();
+      it = grasps_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return names;
 }
 
 void SimNode::onStepTimer(const ros::TimerEvent& event) {
   std::lock_guard<std::mutex> lock(mutex_);
   refreshColliders();
+  refreshAttachments();
   const double period = 1.0 / params_.step_rate;
   double elapsed =
       event.last_real.isZero() ? period : (event.current_real - event.last_real).toSec();
@@ -131,6 +312,7 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   if (paused_ || garments_.empty()) {  // keeps the substep of the last ~step for the status
     last_.substeps = 0;
     last_.wall_per_step = last_.real_time_factor = 0.0;
+    publishGraspWrenches(0.0);
     return;
   }
   // After a stall (a slow callback, a paused /clock) do not try to catch up all at once.
@@ -153,6 +335,7 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   last_.substeps = n;
   last_.wall_per_step = wall / n;
   last_.real_time_factor = n * h / std::max(elapsed, wall);
+  publishGraspWrenches(n * h);
 }
 
 void SimNode::onStatusTimer(const ros::TimerEvent&) {
@@ -180,6 +363,7 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
     s.rollbacks = rollbacks_;
     s.transforms_ok = transforms_ok_;
     s.stale_colliders = colliders_.staleNames();
+    for (const auto& [name, grasp] : grasps_) s.grasps.push_back(name);
   }
   s.drape_running = drape_running_;
   status_pub_.publish(s);
@@ -222,6 +406,16 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
       return true;
     }
   }
+  std::map<std::string, Eigen::Isometry3d> attach_frames;
+  for (const auto& group : req.attached) {
+    if (group.frame_id.empty() || attach_frames.count(group.frame_id)) continue;
+    std::string error;
+    if (!lookupFrame(group.frame_id, 0.5, attach_frames[group.frame_id], &error)) {
+      res.message = who + "attached pins: frame '" + group.frame_id + "' has no transform to '" +
+                    params_.world_frame + "' (" + error + ")";
+      return true;
+    }
+  }
   Eigen::Isometry3d world_from_frame = Eigen::Isometry3d::Identity();
   if (!req.frame_id.empty() && req.frame_id != params_.world_frame) {
     std::string error;
@@ -240,7 +434,8 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     }
   }
   try {
-    Garment g = buildGarment(req, world_from_frame, params_.gravity, dynamics_settings_);
+    Garment g =
+        buildGarment(req, world_from_frame, attach_frames, params_.gravity, dynamics_settings_);
     std::lock_guard<std::mutex> lock(mutex_);
     if (garments_.count(req.name)) {
       res.message = who + "a garment of that name was loaded meanwhile";
@@ -270,6 +465,8 @@ bool SimNode::removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
   std::lock_guard<std::mutex> lock(mutex_);
   res.success = garments_.erase(req.name) > 0;
   res.message = "garment '" + req.name + "': " + (res.success ? "removed" : "not loaded");
+  const std::vector<std::string> dropped = dropGrasps(req.name);
+  if (!dropped.empty()) res.message += "; grasps released: " + joined(dropped);
   return true;
 }
 
@@ -286,11 +483,32 @@ bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
 
 bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::string> released;
   try {
     for (auto& [name, g] : garments_) {
       resetDynamics(g, dynamics_settings_);
       g.generation = next_generation_++;
       g.dynamics->setColliders(colliders_.surfaces());
+      // A garment hanging from frames restarts where its first frame has carried it since load
+      // (pinned across one substep instead, its vertices would move faster than max_speed and
+      // every retry would be rolled back); world pins stay where they are.
+      if (!g.frame_pins.empty()) {
+        const FrameAttachment& first = g.frame_pins.front();
+        const Eigen::Isometry3d moved = first.to * first.attached_at.inverse();
+        std::vector<Eigen::Vector3d> x = g.dynamics->positions();
+        for (int v = 0; v < g.dynamics->numVertices(); ++v)
+          if (!g.dynamics->isPinned(v)) x[v] = moved * x[v];
+        for (auto& a : g.frame_pins)
+          for (std::size_t k = 0; k < a.vertices.size(); ++k)
+            x[a.vertices[k]] = a.to * a.offsets[k];
+        g.dynamics->setPositions(x);
+        for (auto& a : g.frame_pins) {
+          a.from = a.to;
+          a.pinAt(*g.dynamics, 1.0);
+        }
+      }
+      // Grasps held the old state: released.
+      for (const auto& n : dropGrasps(name)) released.push_back(n);
     }
   } catch (const std::exception& e) {
     res.success = false;
@@ -303,6 +521,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
   last_ = UpdateStats();
   res.success = true;
   res.message = "reset " + std::to_string(garments_.size()) + " garments to their reference";
+  if (!released.empty()) res.message += "; grasps released: " + joined(released);
   return true;
 }
 
@@ -323,8 +542,10 @@ bool SimNode::step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSi
     res.message = "steps must be between 1 and 1000000";
   } else {
     refreshColliders();
+    refreshAttachments();
     const double h = substepLimit();
     advance(req.steps, h);
+    publishGraspWrenches(req.steps * h);
     last_ = UpdateStats();
     last_.dt = h;
     last_.substeps = req.steps;
@@ -409,6 +630,89 @@ bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
   }
   res.wall_time = secondsSince(start);
   ROS_INFO("%s (%.2f s)", res.message.c_str(), res.wall_time);
+  return true;
+}
+
+bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
+                    cloth_hair_sim::GraspGarment::Response& res) {
+  res.success = false;
+  const std::string who = "grasp '" + req.name + "': ";
+  std::string error;
+  if (req.name.empty() || req.name.find('/') != std::string::npos ||
+      !ros::names::validate(req.name, error)) {
+    res.message = who + "the name must be a ROS name without '/' (it names the wrench topic)";
+    return true;
+  }
+  if (!(req.radius > 0.0) || !std::isfinite(req.radius)) {
+    res.message = who + "radius must be positive and finite (m)";
+    return true;
+  }
+  if (req.frame_id.empty()) {
+    res.message = who + "needs the gripper's frame_id";
+    return true;
+  }
+  Eigen::Isometry3d pose;
+  if (!lookupFrame(req.frame_id, 0.5, pose, &error)) {
+    res.message = who + "frame '" + req.frame_id + "' has no transform to '" + params_.world_frame +
+                  "' (" + error + ")";
+    return true;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = garments_.find(req.garment);
+  if (grasps_.count(req.name)) {
+    res.message = who + "a grasp of that name is active; release it first";
+  } else if (it == garments_.end()) {
+    res.message = who + "no garment '" + req.garment + "' is loaded";
+  } else {
+    chs::ParticleDynamics& dyn = *it->second.dynamics;
+    const std::vector<int> held = freeVerticesNear(dyn, pose.translation(), req.radius);
+    if (held.empty()) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& x : dyn.positions())
+        nearest = std::min(nearest, (x - pose.translation()).norm());
+      res.message = who + "no free vertex of '" + req.garment + "' within " +
+                    std::to_string(req.radius) + " m of frame '" + req.frame_id +
+                    "' (the nearest vertex is " + std::to_string(nearest) + " m away)";
+    } else {
+      Grasp g{req.name,
+              req.garment,
+              FrameAttachment(req.frame_id, held, dyn.positions(), pose),
+              pnh_.advertise<geometry_msgs::WrenchStamped>("grasp_wrench/" + req.name, 10),
+              {},
+              {},
+              0};
+      g.attachment.pinAt(dyn, 1.0);  // held where they are, from now on
+      res.vertices.assign(held.begin(), held.end());
+      res.success = true;
+      res.message = who + std::to_string(held.size()) + " vertices of '" + req.garment +
+                    "' held by frame '" + req.frame_id + "'; wrench on " + g.wrench_pub.getTopic();
+      grasps_.emplace(req.name, std::move(g));
+    }
+  }
+  if (res.success)
+    ROS_INFO("%s", res.message.c_str());
+  else
+    ROS_WARN("%s", res.message.c_str());
+  return true;
+}
+
+bool SimNode::release(cloth_hair_sim::ReleaseGrasp::Request& req,
+                      cloth_hair_sim::ReleaseGrasp::Response& res) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = grasps_.find(req.name);
+  res.success = it != grasps_.end();
+  if (!res.success) {
+    res.message = "grasp '" + req.name + "': no active grasp of that name";
+    return true;
+  }
+  const auto g = garments_.find(it->second.garment);
+  if (g != garments_.end()) it->second.attachment.unpin(*g->second.dynamics);
+  it->second.wrench_pub.shutdown();
+  res.message = "grasp '" + req.name + "': released " +
+                std::to_string(it->second.attachment.vertices.size()) + " vertices of '" +
+                it->second.garment + "'";
+  grasps_.erase(it);
+  ROS_INFO("%s", res.message.c_str());
   return true;
 }
 

@@ -277,6 +277,58 @@ TEST_F(SimNodeTest, RefusesBadGarmentsAndKeepsRunning) {
   EXPECT_TRUE(remove("twice"));
 }
 
+TEST_F(SimNodeTest, LoadsAnInlineTriangleMesh) {
+  // A 10 x 10 cm grid of 2 x 2 quads, each sent as two triangles sharing a diagonal (as the
+  // node's own meshes are): it comes back as the 4 quads.
+  cloth_hair_sim::LoadGarment::Request req = rectangle("inline", 0.1, 2);
+  req.rectangle_size.clear();
+  req.rectangle_cells.clear();
+  req.pose.position.z = 3.0;
+  for (int j = 0; j <= 2; ++j)
+    for (int i = 0; i <= 2; ++i) {
+      geometry_msgs::Point p;
+      p.x = 0.05 * i;
+      p.y = 0.05 * j;
+      req.mesh.vertices.push_back(p);
+    }
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const unsigned a = 3 * j + i, b = a + 1, c = a + 4, d = a + 3;
+      shape_msgs::MeshTriangle t1, t2;
+      t1.vertex_indices = {a, b, c};
+      t2.vertex_indices = {a, c, d};
+      req.mesh.triangles.push_back(t1);
+      req.mesh.triangles.push_back(t2);
+    }
+  req.pinned = {0};
+  auto res = load(req);
+  ASSERT_TRUE(res.success) << res.message;
+  EXPECT_EQ(res.vertices, 9);
+  EXPECT_EQ(res.faces, 4);
+  EXPECT_TRUE(remove("inline"));
+
+  // A vertex in no triangle (it would have no mass), a triangle without a partner and an index
+  // out of range are refused.
+  req.mesh.vertices.emplace_back();
+  res = load(req);
+  EXPECT_FALSE(res.success);
+  EXPECT_NE(res.message.find("vertex 9 is in no triangle"), std::string::npos) << res.message;
+  req.mesh.vertices.pop_back();
+  req.mesh.triangles.pop_back();
+  res = load(req);
+  EXPECT_FALSE(res.success);
+  EXPECT_NE(res.message.find("no neighbour"), std::string::npos) << res.message;
+  req.mesh.triangles.back().vertex_indices[0] = 9;
+  res = load(req);
+  EXPECT_FALSE(res.success);
+  EXPECT_NE(res.message.find("out of range"), std::string::npos) << res.message;
+  // One geometry source only.
+  req.rectangle_size = {0.1, 0.1};
+  res = load(req);
+  EXPECT_FALSE(res.success);
+  EXPECT_NE(res.message.find("not several"), std::string::npos) << res.message;
+}
+
 TEST_F(SimNodeTest, PausesStepsAndResets) {
   auto req = rectangle("flag", 0.1, 2);
   req.pinned = {0, 6};  // one edge held: it swings like a flag

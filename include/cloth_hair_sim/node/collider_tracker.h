@@ -23,9 +23,9 @@ struct TrackedCollider {
   Eigen::Isometry3d shapePose() const { return world_from_frame * shape.offset; }
 };
 
-// Parses the ~colliders parameter: a list of {name, frame_id, shape: plane|sphere|box|cylinder,
-// dimensions: [...], offset: {xyz: [x, y, z], rpy: [r, p, y]} (optional), edge_radius
-// (optional)}. Throws chs::InputError naming the collider and key at fault.
+// Parses the ~colliders parameter: a list of {name, frame_id, shape:
+// plane|sphere|box|cylinder|capsule, dimensions: [...], offset: {xyz: [x, y, z], rpy: [r, p, y]}
+// (optional), edge_radius (optional)}. Throws chs::InputError naming the collider and key at fault.
 std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list);
 
 // Keeps the colliders' world poses current from tf. A frame that cannot be looked up keeps its

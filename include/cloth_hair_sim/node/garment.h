@@ -1,13 +1,16 @@
 #pragma once
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/LoadGarment.h"
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
+#include "cloth_hair_sim/node/grasp.h"
 
 namespace chs_node {
 
@@ -21,6 +24,8 @@ struct Garment {
   double stable_dt = 0.0;        // [s] substep the explicit integrator tolerates
   std::uint64_t generation = 0;  // set anew on load and reset: a finished drape checks it
   int colour = 0;
+  // Pins attached to tf frames at load (also pinned in `reference`, where they were at load).
+  std::vector<FrameAttachment> frame_pins;
 };
 
 // Rigid pose of a geometry_msgs/Pose; throws chs::InputError for NaN/Inf or a quaternion that
@@ -28,10 +33,11 @@ struct Garment {
 Eigen::Isometry3d poseFromMsg(const geometry_msgs::Pose& pose);
 
 // Builds and validates a garment from a ~load_garment request; world_from_request_frame places
-// the request's frame_id. Throws chs::InputError naming the problem (file, mesh, pose, material,
-// vertex indices).
+// the request's frame_id, world_from_frames the frames of req.attached. Throws chs::InputError
+// naming the problem (file, mesh, pose, material, vertex indices).
 Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
                      const Eigen::Isometry3d& world_from_request_frame,
+                     const std::map<std::string, Eigen::Isometry3d>& world_from_frames,
                      const Eigen::Vector3d& gravity, const chs::ParticleDynamicsSettings& settings);
 
 // A fresh dynamic state at the garment's reference (reset).

@@ -13,12 +13,15 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "cloth_hair_sim/DrapeSolve.h"
+#include "cloth_hair_sim/GraspGarment.h"
 #include "cloth_hair_sim/ListGarments.h"
 #include "cloth_hair_sim/LoadGarment.h"
+#include "cloth_hair_sim/ReleaseGrasp.h"
 #include "cloth_hair_sim/RemoveGarment.h"
 #include "cloth_hair_sim/StepSim.h"
 #include "cloth_hair_sim/node/collider_tracker.h"
 #include "cloth_hair_sim/node/garment.h"
+#include "cloth_hair_sim/node/grasp.h"
 #include "cloth_hair_sim/node/sim_params.h"
 
 namespace chs_node {
@@ -55,6 +58,23 @@ class SimNode {
   bool step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSim::Response& res);
   bool drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
                   cloth_hair_sim::DrapeSolve::Response& res);
+  bool grasp(cloth_hair_sim::GraspGarment::Request& req,
+             cloth_hair_sim::GraspGarment::Response& res);
+  bool release(cloth_hair_sim::ReleaseGrasp::Request& req,
+               cloth_hair_sim::ReleaseGrasp::Response& res);
+
+  // World pose of a frame that carries vertices (the world frame itself is the identity), at
+  // tf_delay_ behind now or else the latest; false and a reason if it cannot be looked up
+  // within timeout.
+  bool lookupFrame(const std::string& frame, double timeout, Eigen::Isometry3d& pose,
+                   std::string* error);
+  // Under mutex_: the frames of frame pins and grasps from tf (a missing one holds its pose).
+  void refreshAttachments();
+  // Under mutex_: the wrench each grasp feels, over an update of `duration` simulated seconds
+  // (0: nothing was simulated, the held vertices count as still).
+  void publishGraspWrenches(double duration);
+  // Under mutex_: drops the grasps of a garment (removed or reset); returns their names.
+  std::vector<std::string> dropGrasps(const std::string& garment);
 
   // Under mutex_: colliders from tf into every garment.
   void refreshColliders();
@@ -76,6 +96,14 @@ class SimNode {
   std::mutex mutex_;
   ColliderTracker colliders_;
   std::map<std::string, Garment> garments_;
+  std::map<std::string, Grasp> grasps_;
+  // Collider poses at the start of the current update: colliders move from there to their
+  // current pose over the update's substeps, with the velocity that takes.
+  std::map<std::string, Eigen::Isometry3d> collider_from_;
+  // [s] frame pins and grasps follow their frames this far in the past (~tf_delay), where tf
+  // interpolates: sampled at the latest stamp, a frame would advance by one or two of its
+  // publisher's periods per update and shake the stiff cloth.
+  double tf_delay_ = 0.05;
   std::uint64_t next_generation_ = 1;
   int next_colour_ = 0;
   bool paused_ = false;
@@ -88,7 +116,7 @@ class SimNode {
 
   ros::Publisher status_pub_, marker_pub_;
   ros::ServiceServer load_srv_, remove_srv_, list_srv_, reset_srv_, pause_srv_, step_srv_,
-      drape_srv_;
+      drape_srv_, grasp_srv_, release_srv_;
   ros::Timer step_timer_, status_timer_, marker_timer_;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/contact/capsule_surface.h"
 #include "cloth_hair_sim/core/contact/posed_surface.h"
 
 namespace chs {
@@ -13,7 +14,9 @@ ColliderShape::Type parseColliderType(const std::string& name) {
   if (name == "sphere") return ColliderShape::Type::kSphere;
   if (name == "box") return ColliderShape::Type::kBox;
   if (name == "cylinder") return ColliderShape::Type::kCylinder;
-  throw InputError("collider shape '" + name + "' is unknown: use plane, sphere, box or cylinder");
+  if (name == "capsule") return ColliderShape::Type::kCapsule;
+  throw InputError("collider shape '" + name +
+                   "' is unknown: use plane, sphere, box, cylinder or capsule");
 }
 
 std::string colliderTypeName(ColliderShape::Type type) {
@@ -26,6 +29,8 @@ std::string colliderTypeName(ColliderShape::Type type) {
       return "box";
     case ColliderShape::Type::kCylinder:
       return "cylinder";
+    case ColliderShape::Type::kCapsule:
+      return "capsule";
   }
   return "unknown";
 }
@@ -53,7 +58,7 @@ void ColliderShape::validate() const {
 }
 
 double ColliderShape::effectiveEdgeRadius() const {
-  if (type == Type::kPlane || type == Type::kSphere) return 0.0;
+  if (type == Type::kPlane || type == Type::kSphere || type == Type::kCapsule) return 0.0;
   if (edge_radius >= 0.0) return edge_radius;
   const double smallest = *std::min_element(dimensions.begin(), dimensions.end());
   return std::min(1e-3, smallest / 100.0);
@@ -85,6 +90,11 @@ std::shared_ptr<const RigidSurface> ColliderShape::makeSurface(
       const double e = effectiveEdgeRadius();
       local = std::make_shared<CylinderSurface>(Eigen::Vector2d::Zero(), dimensions[0] - e,
                                                 -0.5 * dimensions[1] + e, 0.5 * dimensions[1], e);
+      break;
+    }
+    case Type::kCapsule: {
+      const Eigen::Vector3d half(0.0, 0.0, 0.5 * dimensions[1]);
+      local = std::make_shared<CapsuleSurface>(-half, half, dimensions[0]);
       break;
     }
   }

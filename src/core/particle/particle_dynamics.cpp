@@ -53,10 +53,18 @@ void ParticleDynamics::checkVertex(int vertex) const {
                      std::to_string(numVertices()) + " vertices)");
 }
 
-void ParticleDynamics::setColliders(const RigidSurfaces& colliders) {
+void ParticleDynamics::setColliders(const RigidSurfaces& colliders,
+                                    const std::vector<SurfaceVelocity>& velocities) {
   for (const auto& c : colliders)
     if (!c) throw InputError("particle dynamics: null collider");
+  if (!velocities.empty() && velocities.size() != colliders.size())
+    throw InputError("particle dynamics: " + std::to_string(velocities.size()) +
+                     " collider velocities for " + std::to_string(colliders.size()) + " colliders");
+  for (const auto& u : velocities)
+    if (!u.linear.allFinite() || !u.angular.allFinite() || !u.origin.allFinite())
+      throw InputError("particle dynamics: collider velocity is not finite");
   surfaces_ = colliders;
+  surface_velocities_ = velocities;
 }
 
 void ParticleDynamics::setPositions(const std::vector<Vec3>& x) {
@@ -147,11 +155,15 @@ void ParticleDynamics::step(double dt) {
       continue;
     }
     v_[i] = v_[i].cwiseProduct(mask_[i]);
-    // Impact: back onto the surface, inward normal velocity reversed by the restitution.
+    // Impact: back onto the surface, inward normal velocity relative to the surface reversed by
+    // the restitution.
     if (projectOutOfSurfaces(surfaces_, x_[i])) {
       Vec3 normal;
-      if (touchingSurface(surfaces_, x_[i], contact_tolerance_, &normal) >= 0) {
-        const double vn = v_[i].dot(normal);
+      const int s = touchingSurface(surfaces_, x_[i], contact_tolerance_, &normal);
+      if (s >= 0) {
+        const Vec3 u =
+            surface_velocities_.empty() ? Vec3::Zero() : surface_velocities_[s].at(x_[i]);
+        const double vn = (v_[i] - u).dot(normal);
         if (vn < 0.0) v_[i] -= (1.0 + settings_.restitution) * vn * normal;
       }
     }
@@ -180,6 +192,15 @@ double ParticleDynamics::stableTimeStep() const {
   double w2 = 0.0;
   for (int i = 0; i < numVertices(); ++i) w2 = std::max(w2, bound[i] / masses()[i]);
   return w2 > 0.0 ? 2.0 / std::sqrt(w2) : std::numeric_limits<double>::infinity();
+}
+
+std::vector<Vec3> ParticleDynamics::appliedForces() const {
+  std::vector<Vec3> f(numVertices(), Vec3::Zero());
+  network_.addForces(x_, f);
+  loads_.addForces(x_, 1.0, 1.0, f);
+  // Damping on the velocity the step integrates (a pinned vertex moves with its pin).
+  for (int i = 0; i < numVertices(); ++i) f[i] -= settings_.damping * masses()[i] * v_[i];
+  return f;
 }
 
 std::vector<ContactReaction> ParticleDynamics::contactReactions() const {

@@ -2,6 +2,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross
 
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/particle/particle_loads.h"
@@ -14,6 +15,14 @@ struct ParticleDynamicsSettings {
   double damping = 0.0;            // [1/s] viscous damping force -damping m v
   double restitution = 0.0;        // normal velocity after an impact = -restitution x before
   double contact_tolerance = 0.0;  // gap counted as contact; 0: 1e-6 b
+};
+
+// Velocity field of a moving rigid obstacle: v(x) = linear + angular x (x - origin).
+struct SurfaceVelocity {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();  // [rad/s]
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d at(const Eigen::Vector3d& x) const { return linear + angular.cross(x - origin); }
 };
 
 // The dynamic particle model of seed 000 section 3.3: m dv/dt = W + F_ext + F_stretch + F_bend
@@ -43,9 +52,12 @@ class ParticleDynamics {
   const std::vector<Eigen::Vector3d>& velocities() const { return v_; }
   void setPositions(const std::vector<Eigen::Vector3d>& x);  // pins keep their targets
   void setVelocities(const std::vector<Eigen::Vector3d>& v);
-  // Obstacles that move (a ROS node re-poses them from tf between steps). Throws InputError for
-  // a null surface.
-  void setColliders(const RigidSurfaces& colliders);
+  // Obstacles that move (a ROS node re-poses them from tf between steps). velocities: one per
+  // collider, or empty for obstacles at rest; an impact then leaves the vertex with the
+  // obstacle's normal velocity, so a moving obstacle carries the cloth along instead of only
+  // projecting it out each step. Throws InputError for a null surface or a count mismatch.
+  void setColliders(const RigidSurfaces& colliders,
+                    const std::vector<SurfaceVelocity>& velocities = {});
   const RigidSurfaces& colliders() const { return surfaces_; }
 
   void pin(int vertex);                                 // at its current position
@@ -64,6 +76,9 @@ class ParticleDynamics {
   double stableTimeStep() const;
   // Forces the obstacles exert on the nodes now touching them.
   std::vector<ContactReaction> contactReactions() const;
+  // Resultant of the applied forces on each vertex now (internal, weight, nodal loads,
+  // damping), before pins, fixed axes and contacts act: what a support must balance.
+  std::vector<Eigen::Vector3d> appliedForces() const;
 
  private:
   void acceleration(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
@@ -74,6 +89,7 @@ class ParticleDynamics {
   ParticleNetwork network_;
   ParticleLoads loads_;
   RigidSurfaces surfaces_;
+  std::vector<SurfaceVelocity> surface_velocities_;  // empty: at rest
   double contact_tolerance_ = 0.0;
   std::vector<Eigen::Vector3d> mask_;  // 1 where an axis is free
   std::vector<char> pinned_;
