@@ -14,6 +14,9 @@ deps:
 	bash scripts/install-deps.sh
 
 build: deps
+	@# catkin caches the test environment at configure time with only the paths that exist then:
+	@# without this directory a first build's rostests cannot import the generated messages.
+	mkdir -p $(BUILD)/devel/lib/python3/dist-packages
 	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
 	cmake --build $(BUILD) -j$(JOBS)
 
