@@ -69,21 +69,11 @@ visualization_msgs::Marker garmentMarker(const chs::QuadMesh& mesh,
   m.scale.x = m.scale.y = m.scale.z = 1.0;
   m.color = palette(colour);
   m.points.reserve(mesh.quads.size() * 12);
-  // Both windings, each moved half a millimetre to its own side along the vertex normals: in one
-  // plane the back faces z-fight with the front and rviz, lighting them from behind, shows the
-  // cloth black.
-  std::vector<Eigen::Vector3d> normal(x.size(), Eigen::Vector3d::Zero());
-  for (const auto& q : mesh.quads) {
-    const Eigen::Vector3d n = (x[q[2]] - x[q[0]]).cross(x[q[3]] - x[q[1]]);
-    for (int v : q) normal[v] += n;
-  }
-  for (auto& n : normal) n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : n;
-  constexpr double kOffset = 5e-4;  // [m]
   for (const auto& q : mesh.quads) {
     for (const auto& t :
          {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
-      for (int k : {0, 1, 2}) m.points.push_back(point(x[t[k]] + kOffset * normal[t[k]]));
-      for (int k : {0, 2, 1}) m.points.push_back(point(x[t[k]] - kOffset * normal[t[k]]));
+      for (int k : {0, 1, 2}) m.points.push_back(point(x[t[k]]));  // front
+      for (int k : {0, 2, 1}) m.points.push_back(point(x[t[k]]));  // back
     }
   }
   return m;
