@@ -84,6 +84,8 @@ std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list) {
         t.shape.offset = parseOffset(kv.second, where + ".offset");
       else if (key == "edge_radius")
         t.shape.edge_radius = number(kv.second, where + ".edge_radius");
+      else if (key == "friction")
+        t.friction = number(kv.second, where + ".friction");
       else
         throw chs::InputError(where + ": unknown key '" + key + "'");
     }
@@ -91,6 +93,8 @@ std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list) {
     where = "collider '" + t.name + "'";
     if (t.frame_id.empty()) throw chs::InputError(where + ": needs a frame_id");
     if (!has_shape) throw chs::InputError(where + ": needs a shape");
+    if (!(t.friction >= 0.0) || !std::isfinite(t.friction))
+      throw chs::InputError(where + ": friction must be >= 0");
     for (const auto& other : out)
       if (other.name == t.name) throw chs::InputError(where + ": name used twice");
     try {
@@ -136,6 +140,13 @@ chs::RigidSurfaces ColliderTracker::surfaces() const {
   chs::RigidSurfaces out;
   for (const auto& c : colliders_)
     if (c.has_pose) out.push_back(c.shape.makeSurface(c.world_from_frame));
+  return out;
+}
+
+std::vector<double> ColliderTracker::frictions() const {
+  std::vector<double> out;
+  for (const auto& c : colliders_)
+    if (c.has_pose) out.push_back(c.friction);
   return out;
 }
 

@@ -86,7 +86,8 @@ void SimNode::refreshColliders() {
     ROS_ERROR_THROTTLE(5.0, "colliders not updated: %s", e.what());
     return;
   }
-  for (auto& [name, g] : garments_) g.dynamics->setColliders(surfaces);
+  const std::vector<double> frictions = colliders_.frictions();
+  for (auto& [name, g] : garments_) g.dynamics->setColliders(surfaces, {}, frictions);
 }
 
 double SimNode::substepLimit() const {
@@ -154,14 +155,17 @@ void SimNode::advance(int count, double h) {
       try {
         chs::RigidSurfaces surfaces;
         std::vector<chs::SurfaceVelocity> velocities;
+        std::vector<double> frictions;
         for (const auto& m : colliders) {
+          frictions.push_back(m.collider->friction);
           const Eigen::Isometry3d to = m.collider->world_from_frame;
           const Eigen::Isometry3d pose = interpolate(m.from, to, alpha);
           surfaces.push_back(m.collider->shape.makeSurface(pose));
           velocities.push_back(rigidVelocity(m.from, to, duration));
           velocities.back().origin = pose.translation();
         }
-        for (auto& [name, g] : garments_) g.dynamics->setColliders(surfaces, velocities);
+        for (auto& [name, g] : garments_)
+          g.dynamics->setColliders(surfaces, velocities, frictions);
       } catch (const std::exception&) {  // refreshColliders has logged it: no interpolation
         any_moving = false;
       }
@@ -443,7 +447,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     }
     g.generation = next_generation_++;
     g.colour = next_colour_++;
-    g.dynamics->setColliders(colliders_.surfaces());
+    g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
     res.vertices = g.reference.mesh.numVertices();
     res.faces = g.reference.mesh.numQuads();
     res.success = true;
@@ -488,7 +492,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
     for (auto& [name, g] : garments_) {
       resetDynamics(g, dynamics_settings_);
       g.generation = next_generation_++;
-      g.dynamics->setColliders(colliders_.surfaces());
+      g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
       // A garment hanging from frames restarts where its first frame has carried it since load
       // (pinned across one substep instead, its vertices would move faster than max_speed and
       // every retry would be rolled back); world pins stay where they are.

@@ -118,12 +118,17 @@ std::vector<TrackedCollider> withUrdfColliders(const ros::NodeHandle& pnh,
   std::string param = "robot_description", prefix, xml;
   pnh.param("robot_description", param, param);
   pnh.param("urdf_frame_prefix", prefix, prefix);
+  double friction = 0.0;  // Coulomb mu of cloth on the robot's links
+  pnh.param("urdf_friction", friction, friction);
+  if (!(friction >= 0.0) || !std::isfinite(friction))
+    throw chs::InputError("parameter ~urdf_friction must be >= 0");
   if (!ros::NodeHandle().getParam(param, xml) || xml.empty())
     throw chs::InputError("~urdf_colliders is on but parameter '" + param +
                           "' holds no robot description");
   UrdfColliders urdf = parseUrdfColliders(xml, prefix);
   for (const auto& w : urdf.warnings) ROS_WARN("URDF colliders: %s", w.c_str());
   for (auto& c : urdf.colliders) {
+    c.friction = friction;
     for (const auto& other : colliders)
       if (other.name == c.name)
         throw chs::InputError("URDF collider '" + c.name + "' clashes with a configured collider");

@@ -16,6 +16,7 @@ struct TrackedCollider {
   std::string name;
   std::string frame_id;
   chs::ColliderShape shape;
+  double friction = 0.0;  // Coulomb mu of cloth on this collider
   bool has_pose = false;  // seen at least once; until then the collider is inactive
   bool stale = true;      // the last lookup failed: the last pose is held
   Eigen::Isometry3d world_from_frame = Eigen::Isometry3d::Identity();
@@ -25,7 +26,8 @@ struct TrackedCollider {
 
 // Parses the ~colliders parameter: a list of {name, frame_id, shape:
 // plane|sphere|box|cylinder|capsule, dimensions: [...], offset: {xyz: [x, y, z], rpy: [r, p, y]}
-// (optional), edge_radius (optional)}. Throws chs::InputError naming the collider and key at fault.
+// (optional), edge_radius (optional), friction (optional Coulomb mu, default 0)}. Throws
+// chs::InputError naming the collider and key at fault.
 std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list);
 
 // Keeps the colliders' world poses current from tf. A frame that cannot be looked up keeps its
@@ -39,6 +41,8 @@ class ColliderTracker {
   const std::vector<TrackedCollider>& colliders() const { return colliders_; }
   // Surfaces of the colliders with a known pose, in the world frame.
   chs::RigidSurfaces surfaces() const;
+  // Their friction coefficients, in the same order.
+  std::vector<double> frictions() const;
   std::vector<std::string> staleNames() const;
   int activeCount() const;
 

@@ -21,6 +21,8 @@ const DrapeProblem& validated(const DrapeProblem& problem, const ParticleDynamic
     throw InputError("particle dynamics: damping must be >= 0");
   if (!(s.restitution >= 0.0 && s.restitution <= 1.0))
     throw InputError("particle dynamics: restitution must lie in [0, 1]");
+  if (!(s.friction >= 0.0) || !std::isfinite(s.friction))
+    throw InputError("particle dynamics: friction coefficient must be finite and >= 0");
   if (!std::isfinite(s.contact_tolerance) || s.contact_tolerance < 0.0)
     throw InputError("particle dynamics: contact tolerance must be >= 0");
   return problem;
@@ -54,7 +56,8 @@ void ParticleDynamics::checkVertex(int vertex) const {
 }
 
 void ParticleDynamics::setColliders(const RigidSurfaces& colliders,
-                                    const std::vector<SurfaceVelocity>& velocities) {
+                                    const std::vector<SurfaceVelocity>& velocities,
+                                    const std::vector<double>& frictions) {
   for (const auto& c : colliders)
     if (!c) throw InputError("particle dynamics: null collider");
   if (!velocities.empty() && velocities.size() != colliders.size())
@@ -63,8 +66,16 @@ void ParticleDynamics::setColliders(const RigidSurfaces& colliders,
   for (const auto& u : velocities)
     if (!u.linear.allFinite() || !u.angular.allFinite() || !u.origin.allFinite())
       throw InputError("particle dynamics: collider velocity is not finite");
+  if (!frictions.empty() && frictions.size() != colliders.size())
+    throw InputError("particle dynamics: " + std::to_string(frictions.size()) +
+                     " friction coefficients for " + std::to_string(colliders.size()) +
+                     " colliders");
+  for (double mu : frictions)
+    if (!(mu >= 0.0) || !std::isfinite(mu))
+      throw InputError("particle dynamics: friction coefficient must be finite and >= 0");
   surfaces_ = colliders;
   surface_velocities_ = velocities;
+  surface_friction_ = frictions;
 }
 
 void ParticleDynamics::setPositions(const std::vector<Vec3>& x) {
@@ -94,9 +105,10 @@ void ParticleDynamics::unpin(int vertex) {
 }
 
 void ParticleDynamics::acceleration(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                                    std::vector<Vec3>& a,
-                                    std::vector<ContactReaction>* reactions) const {
+                                    std::vector<Vec3>& a, std::vector<ContactReaction>* reactions,
+                                    std::vector<double>* pushed) const {
   std::fill(a.begin(), a.end(), Vec3::Zero());
+  if (pushed) pushed->assign(a.size(), 0.0);
   network_.addForces(x, a);
   loads_.addForces(x, 1.0, 1.0, a);
   const auto& m = loads_.masses();
@@ -107,6 +119,7 @@ void ParticleDynamics::acceleration(const std::vector<Vec3>& x, const std::vecto
     if (s >= 0) {
       const Vec3 r = cancelInwardComponent(normal, a[i]);
       if (reactions && r.squaredNorm() > 0.0) reactions->push_back({i, s, r});
+      if (pushed && !pinned_[i]) (*pushed)[i] = r.norm() / m[i];
     }
     a[i] = pinned_[i] ? Vec3::Zero() : Vec3(a[i].cwiseProduct(mask_[i]) / m[i]);
   }
@@ -126,26 +139,27 @@ void ParticleDynamics::step(double dt) {
 
   // Classical RK4 on (x, v), seed 000 eq. (50).
   std::vector<Vec3> xs(n), vs(n), a1(n), a2(n), a3(n), a4(n), v1(n), v2(n), v3(n), v4(n);
+  std::vector<double> p1, p2, p3, p4;  // normal acceleration the obstacles cancel, per stage
   for (int i = 0; i < n; ++i) v1[i] = velocity(v_, i);
-  acceleration(x_, v1, a1, nullptr);
+  acceleration(x_, v1, a1, nullptr, &p1);
   for (int i = 0; i < n; ++i) {
     xs[i] = x_[i] + 0.5 * dt * v1[i];
     vs[i] = v_[i] + 0.5 * dt * a1[i];
     v2[i] = velocity(vs, i);
   }
-  acceleration(xs, v2, a2, nullptr);
+  acceleration(xs, v2, a2, nullptr, &p2);
   for (int i = 0; i < n; ++i) {
     xs[i] = x_[i] + 0.5 * dt * v2[i];
     vs[i] = v_[i] + 0.5 * dt * a2[i];
     v3[i] = velocity(vs, i);
   }
-  acceleration(xs, v3, a3, nullptr);
+  acceleration(xs, v3, a3, nullptr, &p3);
   for (int i = 0; i < n; ++i) {
     xs[i] = x_[i] + dt * v3[i];
     vs[i] = v_[i] + dt * a3[i];
     v4[i] = velocity(vs, i);
   }
-  acceleration(xs, v4, a4, nullptr);
+  acceleration(xs, v4, a4, nullptr, &p4);
   for (int i = 0; i < n; ++i) {
     x_[i] += dt / 6.0 * (v1[i] + 2.0 * v2[i] + 2.0 * v3[i] + v4[i]);
     v_[i] += dt / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]);
@@ -157,15 +171,31 @@ void ParticleDynamics::step(double dt) {
     v_[i] = v_[i].cwiseProduct(mask_[i]);
     // Impact: back onto the surface, inward normal velocity relative to the surface reversed by
     // the restitution.
-    if (projectOutOfSurfaces(surfaces_, x_[i])) {
-      Vec3 normal;
-      const int s = touchingSurface(surfaces_, x_[i], contact_tolerance_, &normal);
-      if (s >= 0) {
-        const Vec3 u =
-            surface_velocities_.empty() ? Vec3::Zero() : surface_velocities_[s].at(x_[i]);
-        const double vn = (v_[i] - u).dot(normal);
-        if (vn < 0.0) v_[i] -= (1.0 + settings_.restitution) * vn * normal;
-      }
+    // Normal velocity the obstacles took away during the step: the cancelled pushes, then the
+    // impact.
+    double removed = dt / 6.0 * (p1[i] + 2.0 * p2[i] + 2.0 * p3[i] + p4[i]);
+    const bool moved = projectOutOfSurfaces(surfaces_, x_[i]);
+    Vec3 normal;
+    const int s = touchingSurface(surfaces_, x_[i], contact_tolerance_, &normal);
+    if (s < 0) continue;
+    const Vec3 u = surface_velocities_.empty() ? Vec3::Zero() : surface_velocities_[s].at(x_[i]);
+    const double vn = (v_[i] - u).dot(normal);
+    if (moved && vn < 0.0) {
+      v_[i] -= (1.0 + settings_.restitution) * vn * normal;
+      removed -= (1.0 + settings_.restitution) * vn;
+    }
+    // Coulomb friction at the velocity level: the tangential slip relative to the obstacle
+    // loses mu times the removed normal velocity, or stops. The position takes half the change
+    // (the correction is spread over the step), so sticking nodes do not creep.
+    const double mu = surface_friction_.empty() ? settings_.friction : surface_friction_[s];
+    if (mu > 0.0 && removed > 0.0) {
+      const Vec3 rel = v_[i] - u;
+      const Vec3 slip = rel - rel.dot(normal) * normal;
+      const double speed = slip.norm();
+      const Vec3 dv =
+          speed > 0.0 ? Vec3(-std::min(mu * removed, speed) / speed * slip) : Vec3::Zero();
+      v_[i] += dv.cwiseProduct(mask_[i]);
+      x_[i] += 0.5 * dt * dv.cwiseProduct(mask_[i]);
     }
   }
   time_ += dt;

@@ -15,6 +15,7 @@ struct ParticleDynamicsSettings {
   double damping = 0.0;            // [1/s] viscous damping force -damping m v
   double restitution = 0.0;        // normal velocity after an impact = -restitution x before
   double contact_tolerance = 0.0;  // gap counted as contact; 0: 1e-6 b
+  double friction = 0.0;           // Coulomb mu against obstacles without their own
 };
 
 // Velocity field of a moving rigid obstacle: v(x) = linear + angular x (x - origin).
@@ -30,7 +31,8 @@ struct SurfaceVelocity {
 // state (x, v). Masses are lumped from the areal density (a quarter of each adjacent quad).
 // Obstacles: while a node touches one, the inward normal part of its resultant is cancelled as
 // in the static model; after each step a penetrating node is put back on the surface and its
-// inward normal velocity reversed times the restitution.
+// inward normal velocity reversed times the restitution. Coulomb friction: the normal velocity
+// an obstacle takes away during a step buys at most mu times as much tangential slip.
 //
 // Clamped and pinned vertices of the problem start pinned at their reference positions; pins
 // can be added, moved and released between steps (a ROS node drives them). A pin moved to a new
@@ -56,8 +58,10 @@ class ParticleDynamics {
   // collider, or empty for obstacles at rest; an impact then leaves the vertex with the
   // obstacle's normal velocity, so a moving obstacle carries the cloth along instead of only
   // projecting it out each step. Throws InputError for a null surface or a count mismatch.
+  // frictions: Coulomb mu per collider, or empty for settings.friction on all.
   void setColliders(const RigidSurfaces& colliders,
-                    const std::vector<SurfaceVelocity>& velocities = {});
+                    const std::vector<SurfaceVelocity>& velocities = {},
+                    const std::vector<double>& frictions = {});
   const RigidSurfaces& colliders() const { return surfaces_; }
 
   void pin(int vertex);                                 // at its current position
@@ -82,7 +86,8 @@ class ParticleDynamics {
 
  private:
   void acceleration(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
-                    std::vector<Eigen::Vector3d>& a, std::vector<ContactReaction>* reactions) const;
+                    std::vector<Eigen::Vector3d>& a, std::vector<ContactReaction>* reactions,
+                    std::vector<double>* pushed = nullptr) const;
   void checkVertex(int vertex) const;
 
   ParticleDynamicsSettings settings_;
@@ -90,6 +95,7 @@ class ParticleDynamics {
   ParticleLoads loads_;
   RigidSurfaces surfaces_;
   std::vector<SurfaceVelocity> surface_velocities_;  // empty: at rest
+  std::vector<double> surface_friction_;             // empty: settings_.friction
   double contact_tolerance_ = 0.0;
   std::vector<Eigen::Vector3d> mask_;  // 1 where an axis is free
   std::vector<char> pinned_;
