@@ -164,8 +164,7 @@ void SimNode::advance(int count, double h) {
           velocities.push_back(rigidVelocity(m.from, to, duration));
           velocities.back().origin = pose.translation();
         }
-        for (auto& [name, g] : garments_)
-          g.dynamics->setColliders(surfaces, velocities, frictions);
+        for (auto& [name, g] : garments_) g.dynamics->setColliders(surfaces, velocities, frictions);
       } catch (const std::exception&) {  // refreshColliders has logged it: no interpolation
         any_moving = false;
       }
