@@ -15,8 +15,8 @@
 
 #include <gtest/gtest.h>
 
-#include "drape_tool_runner.h"
 #include <nlohmann/json.hpp>
+#include "drape_tool_runner.h"
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"

@@ -42,8 +42,8 @@ struct OverhangFigures {
 
 // Small-deflection theory (derived in docs/VALIDATION.md).
 const OverhangFigures kTheory = {
-    std::sqrt(2.0) * kA, (std::sqrt(2.0) / 12.0 + 0.125) * kW * std::pow(kA, 4) / kEI,
-    kW * std::sqrt(2.0) * kA / 4.0, kW * (kA + 0.75 * std::sqrt(2.0) * kA), 0.0};
+    std::sqrt(2.0) * kA, (std::sqrt(2.0) / 12.0 + 0.125) * kW* std::pow(kA, 4) / kEI,
+    kW* std::sqrt(2.0) * kA / 4.0, kW*(kA + 0.75 * std::sqrt(2.0) * kA), 0.0};
 
 struct OverhangErrors {
   double p, dy, Rb, Rc;  // relative to kTheory

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <random>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
 #include "cloth_hair_sim/core/mpm/transfers.h"

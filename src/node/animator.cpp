@@ -34,7 +34,7 @@ std::vector<double> mannequinPose(Motion motion, double t, double period) {
   const double ease = t >= period ? 1.0 : 0.5 - 0.5 * std::cos(M_PI * t / period);
   if (motion == Motion::kArmsRaise) {
     const double lift = ease * (0.5 - 0.5 * std::cos(phase));  // 0 .. 1 .. 0 per cycle
-    q[kShoulderL] = q[kShoulderR] = 1.6 * lift;  // about 90 degrees forward
+    q[kShoulderL] = q[kShoulderR] = 1.6 * lift;                // about 90 degrees forward
     q[kElbowL] = q[kElbowR] = 0.3 * lift;
     q[kNeck] = -0.2 * lift;  // looks up at the hands
   } else {
