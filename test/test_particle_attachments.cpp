@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/particle/particle_attachments.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
@@ -21,10 +22,7 @@ using Vec3 = Eigen::Vector3d;
 DrapeProblem cottonSquare(int n) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.1, 0.1, n, n);
-  p.material.young = 1.158e6;
-  p.material.poisson = 0.3;
-  p.material.thickness = 0.54229e-3;
-  p.material.areal_density = 0.2384;
+  p.material = *materialPreset("cotton_eischen");  // seed 000 section 4.4
   p.gravity = Vec3(0, 0, -9.81);
   return p;
 }

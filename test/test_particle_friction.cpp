@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
 
 namespace chs {
@@ -34,10 +35,7 @@ Slide slideOnIncline(double theta, double mu, double duration) {
       const int a = j * (n + 1) + i;
       p.mesh.quads.push_back({a, a + 1, a + n + 2, a + n + 1});
     }
-  p.material.young = 1.1584e6;  // the cotton of seed 000 section 4.4
-  p.material.poisson = 0.3;
-  p.material.thickness = 0.54229e-3;
-  p.material.areal_density = 0.2384;
+  p.material = *materialPreset("cotton_eischen");  // seed 000 section 4.4
   p.gravity = Eigen::Vector3d(0, 0, -g);
   p.colliders.push_back(std::make_shared<PlaneSurface>(Eigen::Vector3d::Zero(), normal));
   ParticleDynamicsSettings s;
