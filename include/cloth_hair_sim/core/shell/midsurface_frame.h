@@ -1,0 +1,36 @@
+#pragma once
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/subdiv/surface_stencil.h"
+
+namespace chs {
+
+// Mid-surface geometry at one parameter point of a subdivision surface, Han (5.3) and (A.1):
+// tangents a_alpha, second derivatives a_{alpha,beta}, unit normal a_3 = a_1 x a_2 / |a_1 x a_2|
+// and its derivatives a_{3,alpha} = (I - a_3 a_3) (a_{1,alpha} x a_2 + a_1 x a_{2,alpha}) / |.|.
+// The lamina basis at height xi3 is g_alpha = a_alpha + xi3 a_{3,alpha}, g_3 = a_3.
+struct MidSurfaceFrame {
+  std::array<Eigen::Vector3d, 2> a;     // a_1, a_2
+  std::array<Eigen::Vector3d, 3> a_uv;  // a_{1,1}, a_{1,2} = a_{2,1}, a_{2,2}
+  Eigen::Vector3d normal;               // a_1 x a_2 (unnormalised)
+  double area_ratio = 0.0;              // |a_1 x a_2|
+  Eigen::Vector3d a3;
+  std::array<Eigen::Vector3d, 2> a3_d;  // a_{3,alpha}
+
+  static MidSurfaceFrame evaluate(const SurfaceStencil& stencil,
+                                  const std::vector<Eigen::Vector3d>& x);
+
+  // Columns g_1, g_2, g_3 at height xi3.
+  Eigen::Matrix3d laminaBasis(double xi3) const;
+
+  // Reverse-mode chain rule through the normal: given dPsi/dg_i (columns of dpsi_dg) at height
+  // xi3, writes dPsi/dx_k for each stencil position k into dpsi_dx (resized to the stencil).
+  // Exact, including the second derivatives that enter through a_{3,alpha}.
+  void pullBack(const SurfaceStencil& stencil, double xi3, const Eigen::Matrix3d& dpsi_dg,
+                std::vector<Eigen::Vector3d>& dpsi_dx) const;
+};
+
+}  // namespace chs

@@ -1,0 +1,202 @@
+#include "cloth_hair_sim/core/shell/hencky_lamina.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+
+namespace chs {
+namespace {
+
+// QR of F in the reference frame, Han (A.3): F e_j = r_ij q_i, r upper triangular. q_3 = q_1 x q_2
+// is the deformed lamina normal; for Kirchhoff-Love F, r_13 = r_23 = 0 and r_33 = 1.
+struct LaminaQR {
+  Eigen::Matrix3d q;  // columns q_1, q_2, q_3
+  Eigen::Matrix3d r;
+};
+
+LaminaQR laminaQR(const Eigen::Matrix3d& F, const Eigen::Matrix3d& frame) {
+  const Eigen::Matrix3d c = F * frame;
+  LaminaQR qr;
+  qr.r.setZero();
+  qr.r(0, 0) = c.col(0).norm();
+  qr.q.col(0) = c.col(0) / qr.r(0, 0);
+  qr.r(0, 1) = qr.q.col(0).dot(c.col(1));
+  const Eigen::Vector3d w = c.col(1) - qr.r(0, 1) * qr.q.col(0);
+  qr.r(1, 1) = w.norm();
+  qr.q.col(1) = w / qr.r(1, 1);
+  qr.q.col(2) = qr.q.col(0).cross(qr.q.col(1));
+  for (int i = 0; i < 3; ++i) qr.r(i, 2) = qr.q.col(i).dot(c.col(2));
+  return qr;
+}
+
+// Hencky stress tau = 2 mu eps + lambda tr(eps) I of a symmetric positive 2x2 stretch tensor B
+// (eps = 1/2 log B), returned with eps for the energy.
+struct HenckyStress {
+  Eigen::Matrix2d eigenvectors;
+  Eigen::Vector2d eigenvalues, log_stretch, principal_stress;
+};
+
+HenckyStress henckyStress(const Eigen::Matrix2d& B, double mu, double lambda) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(B);
+  HenckyStress h;
+  h.eigenvectors = eig.eigenvectors();
+  h.eigenvalues = eig.eigenvalues();
+  h.log_stretch = 0.5 * h.eigenvalues.array().log();
+  const double trace = h.log_stretch.sum();
+  h.principal_stress = 2.0 * mu * h.log_stretch + Eigen::Vector2d::Constant(lambda * trace);
+  return h;
+}
+
+// Closed-form SVD of a 2x2 matrix, M = U diag(sigma) V^T with U, V rotations (Blinn, "Consider
+// the lowly 2x2 matrix"); sigma_2 < 0 only if det M < 0, which the QR factor r_hat never has.
+struct Svd2 {
+  Eigen::Matrix2d U, V;
+  Eigen::Vector2d sigma;
+};
+
+Svd2 svd2(const Eigen::Matrix2d& M) {
+  const double e = 0.5 * (M(0, 0) + M(1, 1)), f = 0.5 * (M(0, 0) - M(1, 1));
+  const double g = 0.5 * (M(1, 0) + M(0, 1)), h = 0.5 * (M(1, 0) - M(0, 1));
+  const double q = std::hypot(e, h), r = std::hypot(f, g);
+  const double a1 = std::atan2(g, f), a2 = std::atan2(h, e);
+  const double phi = 0.5 * (a2 + a1), theta = 0.5 * (a2 - a1);
+  Svd2 s;
+  s.sigma = Eigen::Vector2d(q + r, q - r);
+  s.U << std::cos(phi), -std::sin(phi), std::sin(phi), std::cos(phi);
+  s.V << std::cos(theta), std::sin(theta), -std::sin(theta), std::cos(theta);  // Rot(theta)^T
+  return s;
+}
+
+}  // namespace
+
+HenckyLamina::HenckyLamina(double youngs_modulus, double poisson_ratio, double yield_stress)
+    : E_(youngs_modulus), nu_(poisson_ratio), c_vm_(yield_stress) {
+  if (!std::isfinite(E_) || E_ <= 0.0)
+    throw InputError("HenckyLamina: Young's modulus must be positive and finite, got " +
+                     std::to_string(E_));
+  // Plane-stress stability needs mu > 0 and mu + lambda = E / (2 (1 - nu)) > 0, i.e. -1 < nu < 1;
+  // an isotropic solid further has nu <= 1/2.
+  if (!std::isfinite(nu_) || nu_ <= -1.0 || nu_ > 0.5)
+    throw InputError("HenckyLamina: Poisson ratio must lie in (-1, 0.5], got " +
+                     std::to_string(nu_));
+  if (std::isnan(c_vm_) || c_vm_ <= 0.0)
+    throw InputError(
+        "HenckyLamina: von Mises yield stress must be positive (infinity = purely elastic), got " +
+        std::to_string(c_vm_));
+  mu_ = E_ / (2.0 * (1.0 + nu_));
+  lambda_ = E_ * nu_ / (1.0 - nu_ * nu_);
+}
+
+double HenckyLamina::bendingStiffness(double thickness) const {
+  return E_ * thickness * thickness * thickness / (12.0 * (1.0 - nu_ * nu_));
+}
+
+double HenckyLamina::energyDensity(const Eigen::Matrix3d& F, const Eigen::Matrix3d& frame) const {
+  const Eigen::Matrix<double, 3, 2> lamina = F * frame.leftCols<2>();
+  const HenckyStress h = henckyStress(lamina.transpose() * lamina, mu_, lambda_);
+  const double trace = h.log_stretch.sum();
+  return mu_ * h.log_stretch.squaredNorm() + 0.5 * lambda_ * trace * trace;  // Han (5.11)
+}
+
+Eigen::Matrix3d HenckyLamina::firstPiolaStress(const Eigen::Matrix3d& F,
+                                               const Eigen::Matrix3d& frame) const {
+  const Eigen::Matrix<double, 3, 2> E_hat = frame.leftCols<2>();
+  const Eigen::Matrix<double, 3, 2> lamina = F * E_hat;
+  const HenckyStress h = henckyStress(lamina.transpose() * lamina, mu_, lambda_);
+  // psi depends on F only through C_hat = E^T F^T F E, so P = F E (2 dpsi/dC_hat) E^T and, C_hat
+  // and eps^R being coaxial, 2 dpsi/dC_hat = C_hat^{-1} (2 mu eps^R + lambda tr eps^R I).
+  const Eigen::Matrix2d S = h.eigenvectors *
+                            h.principal_stress.cwiseQuotient(h.eigenvalues).asDiagonal() *
+                            h.eigenvectors.transpose();
+  return lamina * S * E_hat.transpose();
+}
+
+Eigen::Matrix3d HenckyLamina::kirchhoffStress(const Eigen::Matrix3d& F,
+                                              const Eigen::Matrix3d& frame) const {
+  const LaminaQR qr = laminaQR(F, frame);
+  const Eigen::Matrix2d r_hat = qr.r.topLeftCorner<2, 2>();
+  const HenckyStress h = henckyStress(r_hat * r_hat.transpose(), mu_, lambda_);  // eps^L
+  const Eigen::Matrix2d tau_hat =
+      h.eigenvectors * h.principal_stress.asDiagonal() * h.eigenvectors.transpose();  // (5.12)
+  const Eigen::Matrix<double, 3, 2> q_hat = qr.q.leftCols<2>();
+  return q_hat * tau_hat * q_hat.transpose();
+}
+
+Eigen::Vector2d HenckyLamina::principalStress(const Eigen::Vector2d& log_stretch) const {
+  return 2.0 * mu_ * log_stretch + Eigen::Vector2d::Constant(lambda_ * log_stretch.sum());
+}
+
+Eigen::Vector2d HenckyLamina::principalLogStretch(const Eigen::Vector2d& principal_stress) const {
+  // Inverse of A = 2 mu I + lambda 1 1^T on the axes (1,1) (eigenvalue 2 (mu + lambda)) and
+  // (1,-1) (eigenvalue 2 mu).
+  const double mean = 0.5 * principal_stress.sum() / (2.0 * (mu_ + lambda_));
+  const double half_diff = 0.5 * (principal_stress(0) - principal_stress(1)) / (2.0 * mu_);
+  return Eigen::Vector2d(mean + half_diff, mean - half_diff);
+}
+
+double HenckyLamina::vonMises(const Eigen::Vector2d& t) {
+  return std::sqrt(2.0 / 3.0 * (t(0) * t(0) + t(1) * t(1) - t(0) * t(1)));  // (5.14), tau_3 = 0
+}
+
+Eigen::Vector2d HenckyLamina::projectPrincipalStress(const Eigen::Vector2d& trial) const {
+  const double f_trial = vonMises(trial);
+  if (isElastic() || f_trial <= c_vm_) return trial;
+  // On the axes s = (t1 + t2)/sqrt2, d = (t1 - t2)/sqrt2: f^2 = s^2/3 + d^2 and A = diag(2 (mu +
+  // lambda), 2 mu), so tau = tau_tr - kappa A grad(f^2) gives s = s0 / (1 + a kappa), d = d0 /
+  // (1 + b kappa). Solve f(kappa) = c_vM through 1/f, which is nearly linear in kappa, by
+  // bracketed Newton.
+  const double s0 = (trial(0) + trial(1)) / std::sqrt(2.0);
+  const double d0 = (trial(0) - trial(1)) / std::sqrt(2.0);
+  const double a = 4.0 * (mu_ + lambda_) / 3.0, b = 4.0 * mu_;
+  auto state = [&](double kappa, double& inv_f, double& dinv_f) {
+    const double s = s0 / (1.0 + a * kappa), d = d0 / (1.0 + b * kappa);
+    const double f2 = s * s / 3.0 + d * d;
+    const double df2 =
+        -2.0 * a * s * s / (3.0 * (1.0 + a * kappa)) - 2.0 * b * d * d / (1.0 + b * kappa);
+    inv_f = 1.0 / std::sqrt(f2);
+    dinv_f = -0.5 * inv_f / f2 * df2;
+  };
+  const double target = 1.0 / c_vm_;
+  double lo = 0.0, hi = (f_trial / c_vm_ - 1.0) / std::min(a, b);  // f <= f_trial/(1+min(a,b)k)
+  double kappa = 0.0;
+  for (int it = 0; it < 200; ++it) {
+    double g, dg;
+    state(kappa, g, dg);
+    const double residual = g - target;
+    if (std::abs(residual) <= 1e-15 * target) break;
+    (residual < 0.0 ? lo : hi) = kappa;
+    double next = kappa - residual / dg;
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (next == kappa) break;
+    kappa = next;
+  }
+  const double s = s0 / (1.0 + a * kappa), d = d0 / (1.0 + b * kappa);
+  return Eigen::Vector2d(s + d, s - d) / std::sqrt(2.0);
+}
+
+HenckyLamina::DentingReturn HenckyLamina::returnMapping(const Eigen::Matrix3d& F_elastic_trial,
+                                                        const Eigen::Matrix3d& frame) const {
+  DentingReturn result;
+  const LaminaQR qr = laminaQR(F_elastic_trial, frame);
+  const Eigen::Matrix2d r_hat = qr.r.topLeftCorner<2, 2>();
+  const Svd2 svd = svd2(r_hat);  // (5.18)
+  result.trial_stress = principalStress(svd.sigma.array().log().matrix());
+  result.stress = projectPrincipalStress(result.trial_stress);
+  result.yielded = result.stress != result.trial_stress;
+  if (!result.yielded) {
+    result.elastic_deformation = F_elastic_trial;
+    return result;
+  }
+  const Eigen::Vector2d sigma = principalLogStretch(result.stress).array().exp();  // (5.19)
+  Eigen::Matrix3d r = qr.r;
+  r.topLeftCorner<2, 2>() = svd.U * sigma.asDiagonal() * svd.V.transpose();  // (5.20)
+  result.elastic_deformation = qr.q * r * frame.transpose();
+  return result;
+}
+
+}  // namespace chs

@@ -1,0 +1,89 @@
+#include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
+
+#include <cmath>
+#include <string>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+
+namespace chs {
+
+void gaussLegendreUnit(int n, std::vector<double>& nodes, std::vector<double>& weights) {
+  nodes.assign(n, 0.0);
+  weights.assign(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    // Newton on the Legendre polynomial P_n from the Chebyshev-like initial guess.
+    double t = std::cos(M_PI * (i + 0.75) / (n + 0.5));
+    double dp = 1.0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1.0, p1 = t;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * t * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      dp = n * (t * p1 - p0) / (t * t - 1.0);
+      const double step = p1 / dp;
+      t -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    nodes[i] = 0.5 * (1.0 - t);
+    weights[i] = 1.0 / ((1.0 - t * t) * dp * dp);  // 2/((1-t^2) P_n'^2) scaled to [0,1]
+  }
+}
+
+std::vector<KirchhoffLovePoint> buildKirchhoffLovePoints(
+    int num_faces, const FaceStencilFunction& stencil_at,
+    const std::vector<Eigen::Vector3d>& reference_positions, double thickness,
+    const KirchhoffLoveQuadrature& rule) {
+  if (!std::isfinite(thickness) || thickness <= 0.0)
+    throw InputError("buildKirchhoffLovePoints: thickness must be positive, got " +
+                     std::to_string(thickness));
+  if (rule.in_plane_order < 1)
+    throw InputError("buildKirchhoffLovePoints: in-plane Gauss order must be >= 1, got " +
+                     std::to_string(rule.in_plane_order));
+  if (num_faces < 0 || !stencil_at)
+    throw InputError("buildKirchhoffLovePoints: needs a face count >= 0 and a stencil source");
+  std::vector<double> uv, w;
+  gaussLegendreUnit(rule.in_plane_order, uv, w);
+  const double h = rule.thickness_rule == ThicknessRule::kGauss ? thickness / (2.0 * std::sqrt(3.0))
+                                                                : thickness / 4.0;
+  const double xi3[2] = {-h, h};
+  std::vector<KirchhoffLovePoint> points;
+  points.reserve(static_cast<std::size_t>(num_faces) * uv.size() * uv.size() * 2);
+  for (int f = 0; f < num_faces; ++f)
+    for (std::size_t i = 0; i < uv.size(); ++i)
+      for (std::size_t j = 0; j < uv.size(); ++j) {
+        const SurfaceStencil stencil = stencil_at(f, uv[i], uv[j]);
+        for (double z : xi3)
+          points.emplace_back(stencil, f, Eigen::Vector2d(uv[i], uv[j]), z,
+                              w[i] * w[j] * 0.5 * thickness, reference_positions);
+      }
+  return points;
+}
+
+double kirchhoffLoveEnergy(const std::vector<KirchhoffLovePoint>& points,
+                           const HenckyLamina& material, const std::vector<Eigen::Vector3d>& x,
+                           std::vector<Eigen::Vector3d>* gradient) {
+  double energy = 0.0;
+  if (!gradient) {
+    for (const KirchhoffLovePoint& q : points) energy += q.energy(material, x);
+    return energy;
+  }
+  gradient->assign(x.size(), Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> local;
+  for (const KirchhoffLovePoint& q : points) {
+    energy += q.energyAndGradient(material, x, local);
+    for (int k = 0; k < q.stencil().size(); ++k) (*gradient)[q.stencil().points[k]] += local[k];
+  }
+  return energy;
+}
+
+int updateKirchhoffLovePlasticity(std::vector<KirchhoffLovePoint>& points,
+                                  const HenckyLamina& material,
+                                  const std::vector<Eigen::Vector3d>& x) {
+  int yielded = 0;
+  for (KirchhoffLovePoint& q : points) yielded += q.updatePlasticity(material, x) ? 1 : 0;
+  return yielded;
+}
+
+}  // namespace chs
