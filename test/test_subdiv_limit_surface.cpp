@@ -48,13 +48,18 @@ double angle(const V3& a, const V3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
-// Mean curvature from the first and second fundamental forms (positive where the surface
-// bends away from its normal).
-double meanCurvature(const Jet& j) {
+// Mean curvature H (positive where the surface bends away from its normal) and Gaussian
+// curvature K from the first and second fundamental forms.
+struct Curvatures {
+  double H, K;
+};
+
+Curvatures curvatures(const Jet& j) {
   const V3 n = unitNormal(j);
   const double E = j.xu.dot(j.xu), F = j.xu.dot(j.xv), G = j.xv.dot(j.xv);
   const double e = j.xuu.dot(n), f = j.xuv.dot(n), g = j.xvv.dot(n);
-  return -(e * G - 2.0 * f * F + g * E) / (2.0 * (E * G - F * F));
+  const double det = E * G - F * F;
+  return {-(e * G - 2.0 * f * F + g * E) / (2.0 * det), (e * g - f * f) / det};
 }
 
 // Surface of the cube [-1, 1]^3, m x m quads a side, counter-clockwise seen from outside.
@@ -450,13 +455,9 @@ TEST(LimitSurface, CylinderMeanCurvature) {
       for (double u : kGauss)
         for (double v : kGauss) {
           const Jet j = jet(s.stencil((rows / 2) * n + i, u, v), mesh.vertices);
-          worst = std::max(worst, std::abs(meanCurvature(j) * 2.0 * R - 1.0));
-          const V3 nrm = unitNormal(j);
-          const double E = j.xu.dot(j.xu), F = j.xu.dot(j.xv), G = j.xv.dot(j.xv);
-          gauss_curv = std::max(
-              gauss_curv, std::abs((j.xuu.dot(nrm) * j.xvv.dot(nrm) - std::pow(j.xuv.dot(nrm), 2)) /
-                                   (E * G - F * F)) *
-                              R * R);
+          const Curvatures c = curvatures(j);
+          worst = std::max(worst, std::abs(c.H * 2.0 * R - 1.0));
+          gauss_curv = std::max(gauss_curv, std::abs(c.K) * R * R);
         }
     const double tol = std::pow(2.0 * M_PI / n, 2) / 3.0;  // twice the ring shrinkage
     std::printf(
@@ -617,7 +618,7 @@ double bendingIntegral(const LimitSurface& s, const QuadMesh& mesh, const std::v
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) {
         const Jet j = jet(s.stencil(f, kGauss[a], kGauss[b]), mesh.vertices);
-        sum += kGaussWeight[a] * kGaussWeight[b] * std::pow(meanCurvature(j), 2) *
+        sum += kGaussWeight[a] * kGaussWeight[b] * std::pow(curvatures(j).H, 2) *
                j.xu.cross(j.xv).norm();
       }
   return sum;
