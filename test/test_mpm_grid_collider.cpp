@@ -77,7 +77,7 @@ TEST(MpmGridCollider, InclineSlidesIffTanThetaExceedsMu) {
 TEST(MpmGridCollider, StickyNodesFollowAMovingCollider) {
   GridCollider floor;
   floor.surface = std::make_shared<PlaneSurface>(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
-  floor.velocity = Eigen::Vector3d(0.5, -0.25, 0.0);
+  floor.velocity.linear = Eigen::Vector3d(0.5, -0.25, 0.0);
   floor.boundary = ColliderBoundary::kSticky;
   Particles p;
   p.add(Eigen::Vector3d(0.0, 0.0, -0.1), Eigen::Vector3d(3, 2, 1), 1e-3, 1e-6);
@@ -86,7 +86,7 @@ TEST(MpmGridCollider, StickyNodesFollowAMovingCollider) {
   updateGridVelocity(grid, Eigen::Vector3d(0, 0, -9.81), 1e-3);
   applyGridColliders(grid, {floor});
   gridToParticle(grid, p, 2, 0.0, 1e-3);
-  EXPECT_NEAR((p.v[0] - floor.velocity).norm(), 0.0, 1e-14);
+  EXPECT_NEAR((p.v[0] - floor.velocity.linear).norm(), 0.0, 1e-14);
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
-#include "cloth_hair_sim/core/particle/particle_attachments.h"
+#include "cloth_hair_sim/core/dynamics/holding_wrench.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
 
 namespace chs {
@@ -61,7 +61,7 @@ TEST(HoldingForces, HangingClothWeighsOnItsTopEdge) {
   EXPECT_LT((wo.torque - expected).norm(), 1e-4 * weight * 0.1);
   // The per-vertex reactions add up to the wrench.
   Vec3 sum = Vec3::Zero();
-  for (const auto& r : holdingForces(dyn, top)) sum += r;
+  for (const auto& r : dyn.holdingForces(top)) sum += r;
   EXPECT_LT((sum - w.force).norm(), 1e-15);
 }
 
@@ -74,8 +74,8 @@ TEST(HoldingForces, AcceleratedSupportAddsInertia) {
   const HoldingWrench w = holdingWrench(dyn, all, Vec3::Zero(), std::vector<Vec3>(all.size(), a));
   const double mass = 0.2384 * 0.01;
   EXPECT_NEAR(w.force.z(), mass * (2.0 + 9.81), 1e-12);
-  EXPECT_THROW(holdingForces(dyn, {dyn.numVertices()}), InputError);
-  EXPECT_THROW(holdingForces(dyn, {0, 1}, {a}), InputError);
+  EXPECT_THROW(dyn.holdingForces({dyn.numVertices()}), InputError);
+  EXPECT_THROW(dyn.holdingForces({0, 1}, {a}), InputError);
 }
 
 // A floor rising at u lifts the cloth lying on it; with its velocity given, the cloth moves at u

@@ -14,12 +14,12 @@ FrameAttachment::FrameAttachment(std::string frame, std::vector<int> held,
   for (int v : vertices) offsets.push_back(frame_from_world * x.at(v));
 }
 
-void FrameAttachment::pinAt(chs::ParticleDynamics& dynamics, double alpha) const {
+void FrameAttachment::pinAt(chs::ClothDynamics& dynamics, double alpha) const {
   const Eigen::Isometry3d pose = alpha >= 1.0 ? to : interpolate(from, to, alpha);
   for (std::size_t k = 0; k < vertices.size(); ++k) dynamics.pin(vertices[k], pose * offsets[k]);
 }
 
-void FrameAttachment::unpin(chs::ParticleDynamics& dynamics) const {
+void FrameAttachment::unpin(chs::ClothDynamics& dynamics) const {
   for (int v : vertices) dynamics.unpin(v);
 }
 
@@ -42,8 +42,8 @@ chs::SurfaceVelocity rigidVelocity(const Eigen::Isometry3d& a, const Eigen::Isom
   return u;
 }
 
-std::vector<int> freeVerticesNear(const chs::ParticleDynamics& dynamics,
-                                  const Eigen::Vector3d& centre, double radius) {
+std::vector<int> freeVerticesNear(const chs::ClothDynamics& dynamics, const Eigen::Vector3d& centre,
+                                  double radius) {
   std::vector<int> out;
   for (int v = 0; v < dynamics.numVertices(); ++v)
     if (!dynamics.isPinned(v) && (dynamics.positions()[v] - centre).norm() <= radius)

@@ -57,26 +57,37 @@ void addCapsuleTriangles(double radius, double length, visualization_msgs::Marke
 
 }  // namespace
 
-visualization_msgs::Marker garmentMarker(const chs::QuadMesh& mesh,
-                                         const std::vector<Eigen::Vector3d>& x, int id,
-                                         int colour) {
-  visualization_msgs::Marker m;
-  m.ns = "garments";
-  m.id = id;
-  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
-  m.action = visualization_msgs::Marker::ADD;
-  m.pose.orientation.w = 1.0;
-  m.scale.x = m.scale.y = m.scale.z = 1.0;
-  m.color = palette(colour);
-  m.points.reserve(mesh.quads.size() * 12);
-  for (const auto& q : mesh.quads) {
-    for (const auto& t :
-         {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
-      for (int k : {0, 1, 2}) m.points.push_back(point(x[t[k]]));  // front
-      for (int k : {0, 2, 1}) m.points.push_back(point(x[t[k]]));  // back
-    }
+std::vector<visualization_msgs::Marker> garmentMarkers(const chs::DisplaySurface& surface, int id,
+                                                       int colour, double back_offset) {
+  visualization_msgs::Marker front;
+  front.ns = "garments";
+  front.id = id;
+  front.type = visualization_msgs::Marker::TRIANGLE_LIST;
+  front.action = visualization_msgs::Marker::ADD;
+  front.pose.orientation.w = 1.0;
+  front.scale.x = front.scale.y = front.scale.z = 1.0;
+  front.color = palette(colour);
+  visualization_msgs::Marker back = front;
+  back.ns = "garments_back";
+  back.color.r *= 0.6f;
+  back.color.g *= 0.6f;
+  back.color.b *= 0.6f;
+  // Area-weighted vertex normals (the cross products carry twice the triangle areas).
+  const auto& x = surface.vertices;
+  std::vector<Eigen::Vector3d> normal(x.size(), Eigen::Vector3d::Zero());
+  for (const auto& t : surface.triangles) {
+    const Eigen::Vector3d n = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+    for (int k : t) normal[k] += n;
   }
-  return m;
+  for (auto& n : normal)
+    if (n.norm() > 0.0) n.normalize();
+  front.points.reserve(surface.triangles.size() * 3);
+  back.points.reserve(surface.triangles.size() * 3);
+  for (const auto& t : surface.triangles) {
+    for (int k : {0, 1, 2}) front.points.push_back(point(x[t[k]]));
+    for (int k : {0, 2, 1}) back.points.push_back(point(x[t[k]] - back_offset * normal[t[k]]));
+  }
+  return {front, back};
 }
 
 visualization_msgs::Marker colliderMarker(const TrackedCollider& c, int id) {

@@ -20,6 +20,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Back faces of garment markers sit this far behind the front ones [m]: far enough for rviz's
+// depth buffer at room scale, too little to see.
+constexpr double kBackFaceOffset = 5e-4;
+
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -105,11 +109,10 @@ bool SimNode::diverged(const Garment& g) const {
 }
 
 void SimNode::stepGarment(Garment& g, double h, int depth) {
-  const std::vector<Eigen::Vector3d> x = g.dynamics->positions(), v = g.dynamics->velocities();
+  const std::unique_ptr<chs::DynamicsSnapshot> before = g.dynamics->snapshot();
   g.dynamics->step(h);
   if (!diverged(g)) return;
-  g.dynamics->setPositions(x);
-  g.dynamics->setVelocities(v);
+  g.dynamics->restore(*before);
   ++rollbacks_;
   if (depth < 4) {
     stepGarment(g, 0.5 * h, depth + 1);
@@ -118,7 +121,8 @@ void SimNode::stepGarment(Garment& g, double h, int depth) {
   }
   // Still diverging at a sixteenth of the step: stop the garment where it was rather than
   // publish garbage; the node carries on.
-  g.dynamics->setVelocities(std::vector<Eigen::Vector3d>(v.size(), Eigen::Vector3d::Zero()));
+  g.dynamics->setVelocities(
+      std::vector<Eigen::Vector3d>(g.dynamics->numVertices(), Eigen::Vector3d::Zero()));
   ROS_ERROR_THROTTLE(5.0, "garment '%s' diverges even at dt %g s: stopped in place", g.name.c_str(),
                      h);
 }
@@ -248,7 +252,7 @@ void SimNode::publishGraspWrenches(double duration) {
   for (auto& [name, grasp] : grasps_) {
     const auto it = garments_.find(grasp.garment);
     if (it == garments_.end()) continue;
-    const chs::ParticleDynamics& dyn = *it->second.dynamics;
+    const chs::ClothDynamics& dyn = *it->second.dynamics;
     const std::vector<int>& held = grasp.attachment.vertices;
     const Eigen::Isometry3d& frame = grasp.attachment.to;
     chs::HoldingWrench hold;
@@ -380,8 +384,9 @@ void SimNode::onMarkerTimer(const ros::TimerEvent&) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& [name, g] : garments_)
-      array.markers.push_back(
-          garmentMarker(g.reference.mesh, g.dynamics->positions(), g.colour, g.colour));
+      for (auto& m :
+           garmentMarkers(g.dynamics->displaySurface(), g.colour, g.colour, kBackFaceOffset))
+        array.markers.push_back(std::move(m));
     if (params_.show_colliders) {
       int id = 0;
       for (const auto& c : colliders_.colliders()) {
@@ -667,7 +672,7 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
   } else if (it == garments_.end()) {
     res.message = who + "no garment '" + req.garment + "' is loaded";
   } else {
-    chs::ParticleDynamics& dyn = *it->second.dynamics;
+    chs::ClothDynamics& dyn = *it->second.dynamics;
     const std::vector<int> held = freeVerticesNear(dyn, pose.translation(), req.radius);
     if (held.empty()) {
       double nearest = std::numeric_limits<double>::infinity();

@@ -28,20 +28,21 @@ class BagRecord(unittest.TestCase):
             time.sleep(0.2)
         self.assertTrue(os.path.exists(BAG), 'rosbag record did not close ' + BAG)
         counts = {}
-        garment_triangles = 0
+        triangles = {'garments': 0, 'garments_back': 0}
         with rosbag.Bag(BAG) as bag:
             for topic, msg, _ in bag.read_messages():
                 counts[topic] = counts.get(topic, 0) + 1
                 if topic == '/sim/markers':
                     for m in msg.markers:
-                        if m.ns != 'colliders' and m.type == m.TRIANGLE_LIST and m.points:
-                            garment_triangles = max(garment_triangles, len(m.points) // 3)
-        print('bag %s: %s; largest garment marker %d triangles' % (BAG, counts,
-                                                                   garment_triangles))
+                        if m.ns in triangles and m.type == m.TRIANGLE_LIST:
+                            triangles[m.ns] = max(triangles[m.ns], len(m.points) // 3)
+        print('bag %s: %s; largest garment marker %s triangles' % (BAG, counts, triangles))
         for topic in ('/sim/markers', '/sim/status', '/tf_static'):
             self.assertGreater(counts.get(topic, 0), 0, topic + ' missing from the bag')
-        # 4 x 4 quads, both windings: 64 triangles.
-        self.assertEqual(garment_triangles, 64)
+        # The 4 x 4 quad sheet: at least its 32 front triangles (a limit-surface tessellation
+        # has more), each with its back face.
+        self.assertGreaterEqual(triangles['garments'], 32)
+        self.assertEqual(triangles['garments_back'], triangles['garments'])
 
 
 if __name__ == '__main__':

@@ -20,7 +20,7 @@ struct Garment {
   std::string name;
   std::string material_name;
   chs::DrapeProblem reference;
-  std::unique_ptr<chs::ParticleDynamics> dynamics;
+  std::unique_ptr<chs::ClothDynamics> dynamics;
   double stable_dt = 0.0;        // [s] substep the explicit integrator tolerates
   std::uint64_t generation = 0;  // set anew on load and reset: a finished drape checks it
   int colour = 0;

@@ -5,7 +5,7 @@
 #include <ros/publisher.h>
 #include <Eigen/Geometry>
 
-#include "cloth_hair_sim/core/particle/particle_attachments.h"
+#include "cloth_hair_sim/core/dynamics/holding_wrench.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
 
 namespace chs_node {
@@ -27,8 +27,8 @@ struct FrameAttachment {
   FrameAttachment(std::string frame, std::vector<int> vertices,
                   const std::vector<Eigen::Vector3d>& x, const Eigen::Isometry3d& world_from_frame);
   // Pins the vertices where the frame is at fraction alpha of the update.
-  void pinAt(chs::ParticleDynamics& dynamics, double alpha) const;
-  void unpin(chs::ParticleDynamics& dynamics) const;
+  void pinAt(chs::ClothDynamics& dynamics, double alpha) const;
+  void unpin(chs::ClothDynamics& dynamics) const;
 };
 
 // A gripper's grasp of a garment and the publisher of the wrench it feels.
@@ -54,7 +54,7 @@ chs::SurfaceVelocity rigidVelocity(const Eigen::Isometry3d& a, const Eigen::Isom
                                    double duration);
 
 // Vertices within radius of centre that are not pinned yet.
-std::vector<int> freeVerticesNear(const chs::ParticleDynamics& dynamics,
-                                  const Eigen::Vector3d& centre, double radius);
+std::vector<int> freeVerticesNear(const chs::ClothDynamics& dynamics, const Eigen::Vector3d& centre,
+                                  double radius);
 
 }  // namespace chs_node

@@ -24,8 +24,9 @@ void applyGridColliders(SparseGrid& grid, const std::vector<GridCollider>& colli
     for (const GridCollider& c : colliders) {
       const SurfaceProjection p = c.surface->project(x);
       if (p.gap > 0.0) continue;
-      grid.velocity[i] = c.velocity + collideRelativeVelocity(grid.velocity[i] - c.velocity,
-                                                              p.normal, c.boundary, c.friction);
+      const Eigen::Vector3d vc = c.velocity.at(x);
+      grid.velocity[i] =
+          vc + collideRelativeVelocity(grid.velocity[i] - vc, p.normal, c.boundary, c.friction);
       grid.momentum[i] = grid.mass[i] * grid.velocity[i];
     }
   }

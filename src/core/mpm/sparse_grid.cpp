@@ -14,6 +14,7 @@ void SparseGrid::clear() {
   mass.clear();
   momentum.clear();
   velocity.clear();
+  force.clear();
 }
 
 std::uint64_t SparseGrid::key(const Eigen::Vector3i& c) {
@@ -30,6 +31,7 @@ int SparseGrid::activate(const Eigen::Vector3i& c) {
     mass.push_back(0.0);
     momentum.push_back(Eigen::Vector3d::Zero());
     velocity.push_back(Eigen::Vector3d::Zero());
+    force.push_back(Eigen::Vector3d::Zero());
   }
   return it->second;
 }

@@ -22,16 +22,21 @@ void forSupport(const ParticleStencil<D>& s, F&& f) {
 }
 
 template <int D>
-void particleToGridImpl(const Particles& p, SparseGrid& grid) {
+void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& grid) {
   const double dx = grid.spacing();
   grid.clear();
   // Node activation is serial (the hash map), then each particle's support is looked up once.
-  std::vector<std::array<int, ParticleStencil<D>::kNodes>> nodes(p.size());
-  for (int q = 0; q < p.size(); ++q) {
-    const ParticleStencil<D> s(p.x[q], dx);
-    int n = 0;
-    forSupport(s,
-               [&](int, int, int, const Eigen::Vector3i& c) { nodes[q][n++] = grid.activate(c); });
+  std::vector<std::vector<std::array<int, ParticleStencil<D>::kNodes>>> nodes(sets.size());
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    const Particles& p = *sets[s];
+    nodes[s].resize(p.size());
+    for (int q = 0; q < p.size(); ++q) {
+      const ParticleStencil<D> st(p.x[q], dx);
+      int n = 0;
+      forSupport(st, [&](int, int, int, const Eigen::Vector3i& c) {
+        nodes[s][q][n++] = grid.activate(c);
+      });
+    }
   }
   struct Accumulator {
     std::vector<double> m;
@@ -42,17 +47,21 @@ void particleToGridImpl(const Particles& p, SparseGrid& grid) {
     return Accumulator{std::vector<double>(nn, 0.0),
                        std::vector<Eigen::Vector3d>(nn, Eigen::Vector3d::Zero())};
   });
-  tbb::parallel_for(0, p.size(), [&](int q) {
-    Accumulator& acc = local.local();
-    const ParticleStencil<D> s(p.x[q], dx);
-    int n = 0;
-    forSupport(s, [&](int i, int j, int k, const Eigen::Vector3i&) {
-      const int node = nodes[q][n++];
-      const double w = s.weight(i, j, k);
-      acc.m[node] += w * p.mass[q];                                                        // (3.1)
-      acc.mv[node] += w * p.mass[q] * (p.v[q] + p.C[q] * (grid.position(node) - p.x[q]));  // (3.2)
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    const Particles& p = *sets[s];
+    tbb::parallel_for(0, p.size(), [&](int q) {
+      Accumulator& acc = local.local();
+      const ParticleStencil<D> st(p.x[q], dx);
+      int n = 0;
+      forSupport(st, [&](int i, int j, int k, const Eigen::Vector3i&) {
+        const int node = nodes[s][q][n++];
+        const double w = st.weight(i, j, k);
+        acc.m[node] += w * p.mass[q];  // (3.1)
+        acc.mv[node] +=
+            w * p.mass[q] * (p.v[q] + p.C[q] * (grid.position(node) - p.x[q]));  // (3.2)
+      });
     });
-  });
+  }
   for (const Accumulator& acc : local)
     for (int i = 0; i < nn; ++i) {
       grid.mass[i] += acc.m[i];
@@ -95,18 +104,22 @@ void checkDegree(int degree) {
 }  // namespace
 
 void particleToGrid(const Particles& particles, SparseGrid& grid, int degree) {
+  particleToGrid(std::vector<const Particles*>{&particles}, grid, degree);
+}
+
+void particleToGrid(const std::vector<const Particles*>& sets, SparseGrid& grid, int degree) {
   checkDegree(degree);
   if (degree == 2)
-    particleToGridImpl<2>(particles, grid);
+    particleToGridImpl<2>(sets, grid);
   else
-    particleToGridImpl<3>(particles, grid);
+    particleToGridImpl<3>(sets, grid);
 }
 
 void updateGridVelocity(SparseGrid& grid, const Eigen::Vector3d& gravity, double dt) {
   for (int i = 0; i < grid.size(); ++i) {
     if (grid.mass[i] <= 0.0) continue;
-    grid.momentum[i] += dt * grid.mass[i] * gravity;     // (3.8)
-    grid.velocity[i] = grid.momentum[i] / grid.mass[i];  // (3.10)
+    grid.momentum[i] += dt * (grid.force[i] + grid.mass[i] * gravity);  // (5.40)
+    grid.velocity[i] = grid.momentum[i] / grid.mass[i];                 // (3.10)
   }
 }
 

@@ -36,6 +36,7 @@ ParticleDynamics::ParticleDynamics(const DrapeProblem& problem,
                settings.network),
       loads_(problem, network_),
       surfaces_(problem.colliders),
+      quads_(problem.mesh.quads),
       x_(problem.mesh.vertices) {
   const int n = numVertices();
   contact_tolerance_ = settings.contact_tolerance > 0.0 ? settings.contact_tolerance
@@ -238,6 +239,55 @@ std::vector<ContactReaction> ParticleDynamics::contactReactions() const {
   std::vector<ContactReaction> reactions;
   acceleration(x_, v_, a, &reactions);
   return reactions;
+}
+
+namespace {
+struct ParticleSnapshot : DynamicsSnapshot {
+  std::vector<Eigen::Vector3d> x, v;
+  double time = 0.0;
+};
+}  // namespace
+
+std::vector<Eigen::Vector3d> ParticleDynamics::holdingForces(
+    const std::vector<int>& vertices, const std::vector<Eigen::Vector3d>& accelerations) const {
+  if (!accelerations.empty() && accelerations.size() != vertices.size())
+    throw InputError("holding forces: " + std::to_string(accelerations.size()) +
+                     " accelerations for " + std::to_string(vertices.size()) + " vertices");
+  for (int v : vertices) checkVertex(v);
+  // All applied forces are evaluated for a few held vertices: cheap next to a step (4 of them).
+  const std::vector<Eigen::Vector3d> f = appliedForces();
+  std::vector<Eigen::Vector3d> r(vertices.size());
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    const int v = vertices[k];
+    r[k] = -f[v];
+    if (!accelerations.empty()) r[k] += masses()[v] * accelerations[k];
+  }
+  return r;
+}
+
+std::unique_ptr<DynamicsSnapshot> ParticleDynamics::snapshot() const {
+  auto s = std::make_unique<ParticleSnapshot>();
+  s->x = x_;
+  s->v = v_;
+  s->time = time_;
+  return s;
+}
+
+void ParticleDynamics::restore(const DynamicsSnapshot& snapshot) {
+  const auto& s = dynamic_cast<const ParticleSnapshot&>(snapshot);
+  x_ = s.x;
+  v_ = s.v;
+  time_ = s.time;
+}
+
+DisplaySurface ParticleDynamics::displaySurface() const {
+  DisplaySurface d;
+  d.vertices = x_;
+  for (const auto& q : quads_) {
+    d.triangles.push_back({q[0], q[1], q[2]});
+    d.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return d;
 }
 
 }  // namespace chs

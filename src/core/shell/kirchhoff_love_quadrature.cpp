@@ -1,7 +1,13 @@
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 
 #include <cmath>
+#include <functional>
 #include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 
@@ -64,16 +70,37 @@ std::vector<KirchhoffLovePoint> buildKirchhoffLovePoints(
 double kirchhoffLoveEnergy(const std::vector<KirchhoffLovePoint>& points,
                            const HenckyLamina& material, const std::vector<Eigen::Vector3d>& x,
                            std::vector<Eigen::Vector3d>* gradient) {
+  const int n = static_cast<int>(points.size());
+  if (!gradient)
+    return tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, n), 0.0,
+        [&](const tbb::blocked_range<int>& r, double e) {
+          for (int q = r.begin(); q < r.end(); ++q) e += points[q].energy(material, x);
+          return e;
+        },
+        std::plus<double>());
+  // Threads scatter into private gradients that are summed afterwards: no races.
+  struct Local {
+    double energy = 0.0;
+    std::vector<Eigen::Vector3d> gradient, point;
+  };
+  const std::size_t nx = x.size();
+  tbb::enumerable_thread_specific<Local> local([nx] {
+    return Local{0.0, std::vector<Eigen::Vector3d>(nx, Eigen::Vector3d::Zero()), {}};
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, n), [&](const tbb::blocked_range<int>& r) {
+    Local& l = local.local();
+    for (int i = r.begin(); i < r.end(); ++i) {
+      const KirchhoffLovePoint& q = points[i];
+      l.energy += q.energyAndGradient(material, x, l.point);
+      for (int k = 0; k < q.stencil().size(); ++k) l.gradient[q.stencil().points[k]] += l.point[k];
+    }
+  });
+  gradient->assign(nx, Eigen::Vector3d::Zero());
   double energy = 0.0;
-  if (!gradient) {
-    for (const KirchhoffLovePoint& q : points) energy += q.energy(material, x);
-    return energy;
-  }
-  gradient->assign(x.size(), Eigen::Vector3d::Zero());
-  std::vector<Eigen::Vector3d> local;
-  for (const KirchhoffLovePoint& q : points) {
-    energy += q.energyAndGradient(material, x, local);
-    for (int k = 0; k < q.stencil().size(); ++k) (*gradient)[q.stencil().points[k]] += local[k];
+  for (const Local& l : local) {
+    energy += l.energy;
+    for (std::size_t p = 0; p < nx; ++p) (*gradient)[p] += l.gradient[p];
   }
   return energy;
 }
@@ -81,9 +108,15 @@ double kirchhoffLoveEnergy(const std::vector<KirchhoffLovePoint>& points,
 int updateKirchhoffLovePlasticity(std::vector<KirchhoffLovePoint>& points,
                                   const HenckyLamina& material,
                                   const std::vector<Eigen::Vector3d>& x) {
-  int yielded = 0;
-  for (KirchhoffLovePoint& q : points) yielded += q.updatePlasticity(material, x) ? 1 : 0;
-  return yielded;
+  if (material.isElastic()) return 0;  // nothing can yield
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, static_cast<int>(points.size())), 0,
+      [&](const tbb::blocked_range<int>& r, int yielded) {
+        for (int q = r.begin(); q < r.end(); ++q)
+          yielded += points[q].updatePlasticity(material, x) ? 1 : 0;
+        return yielded;
+      },
+      std::plus<int>());
 }
 
 }  // namespace chs

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
 
 namespace chs::mpm {
@@ -16,8 +17,8 @@ namespace chs::mpm {
 enum class ColliderBoundary { kSticky, kSlip, kSeparating };
 
 struct GridCollider {
-  std::shared_ptr<const RigidSurface> surface;         // signed distance and normal
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // kinematic, translational
+  std::shared_ptr<const RigidSurface> surface;  // signed distance and normal
+  SurfaceVelocity velocity;                     // kinematic: translation and rotation
   ColliderBoundary boundary = ColliderBoundary::kSeparating;
   double friction = 0.0;  // mu
 };

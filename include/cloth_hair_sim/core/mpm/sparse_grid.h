@@ -25,6 +25,7 @@ class SparseGrid {
 
   std::vector<double> mass;
   std::vector<Eigen::Vector3d> momentum, velocity;
+  std::vector<Eigen::Vector3d> force;  // -dPsi/dx_i of Han (5.40), internal forces only
 
  private:
   static std::uint64_t key(const Eigen::Vector3i& c);

@@ -1,4 +1,6 @@
 #pragma once
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "cloth_hair_sim/core/mpm/mpm_particles.h"
@@ -13,9 +15,12 @@ namespace chs::mpm {
 // activates the nodes the particles touch. Threads accumulate into private arrays that are
 // summed afterwards, so the scatter has no races.
 void particleToGrid(const Particles& particles, SparseGrid& grid, int degree);
+// The same for several particle sets sharing one grid (e.g. shell control points and contact
+// particles).
+void particleToGrid(const std::vector<const Particles*>& sets, SparseGrid& grid, int degree);
 
-// Han (3.8) and (3.10), symplectic Euler with gravity and no internal forces yet:
-// v_i = (m_i v_i + dt m_i g) / m_i.
+// Han (5.40) with (3.10), symplectic Euler: p_i = m_i v_i + dt (f_i + m_i g), v_i = p_i / m_i,
+// with f_i = grid.force (zero unless a model scattered its internal forces there).
 void updateGridVelocity(SparseGrid& grid, const Eigen::Vector3d& gravity, double dt);
 
 // Han (3.13)-(3.17): grid-to-particle velocity and affine velocity (APIC), RPIC damping nu in

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>  // cross
 
 #include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
 #include "cloth_hair_sim/core/particle/particle_loads.h"
 #include "cloth_hair_sim/core/particle/particle_network.h"
 
@@ -16,14 +17,6 @@ struct ParticleDynamicsSettings {
   double restitution = 0.0;        // normal velocity after an impact = -restitution x before
   double contact_tolerance = 0.0;  // gap counted as contact; 0: 1e-6 b
   double friction = 0.0;           // Coulomb mu against obstacles without their own
-};
-
-// Velocity field of a moving rigid obstacle: v(x) = linear + angular x (x - origin).
-struct SurfaceVelocity {
-  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
-  Eigen::Vector3d angular = Eigen::Vector3d::Zero();  // [rad/s]
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  Eigen::Vector3d at(const Eigen::Vector3d& x) const { return linear + angular.cross(x - origin); }
 };
 
 // The dynamic particle model of seed 000 section 3.3: m dv/dt = W + F_ext + F_stretch + F_bend
@@ -40,20 +33,20 @@ struct SurfaceVelocity {
 // translates its held direction but does not turn it). Fixed components stay held. Seams are
 // not modelled here: sew with solveParticleStatic first and hand its positions over. Explicit RK4
 // is conditionally stable: keep dt below stableTimeStep().
-class ParticleDynamics {
+class ParticleDynamics : public ClothDynamics {
  public:
   // Throws InputError for a bad problem or settings (the areal density must be positive).
   explicit ParticleDynamics(const DrapeProblem& problem,
                             const ParticleDynamicsSettings& settings = {});
 
-  void step(double dt);
-  double time() const { return time_; }
-  int numVertices() const { return static_cast<int>(x_.size()); }
+  void step(double dt) override;
+  double time() const override { return time_; }
+  int numVertices() const override { return static_cast<int>(x_.size()); }
 
-  const std::vector<Eigen::Vector3d>& positions() const { return x_; }
-  const std::vector<Eigen::Vector3d>& velocities() const { return v_; }
-  void setPositions(const std::vector<Eigen::Vector3d>& x);  // pins keep their targets
-  void setVelocities(const std::vector<Eigen::Vector3d>& v);
+  const std::vector<Eigen::Vector3d>& positions() const override { return x_; }
+  const std::vector<Eigen::Vector3d>& velocities() const override { return v_; }
+  void setPositions(const std::vector<Eigen::Vector3d>& x) override;  // pins keep targets
+  void setVelocities(const std::vector<Eigen::Vector3d>& v) override;
   // Obstacles that move (a ROS node re-poses them from tf between steps). velocities: one per
   // collider, or empty for obstacles at rest; an impact then leaves the vertex with the
   // obstacle's normal velocity, so a moving obstacle carries the cloth along instead of only
@@ -61,28 +54,37 @@ class ParticleDynamics {
   // frictions: Coulomb mu per collider, or empty for settings.friction on all.
   void setColliders(const RigidSurfaces& colliders,
                     const std::vector<SurfaceVelocity>& velocities = {},
-                    const std::vector<double>& frictions = {});
-  const RigidSurfaces& colliders() const { return surfaces_; }
+                    const std::vector<double>& frictions = {}) override;
+  const RigidSurfaces& colliders() const override { return surfaces_; }
 
-  void pin(int vertex);                                 // at its current position
-  void pin(int vertex, const Eigen::Vector3d& target);  // or move it to target
-  void unpin(int vertex);
-  bool isPinned(int vertex) const { return pinned_.at(vertex) != 0; }
+  void pin(int vertex) override;                                 // at its current position
+  void pin(int vertex, const Eigen::Vector3d& target) override;  // or move it to target
+  void unpin(int vertex) override;
+  bool isPinned(int vertex) const override { return pinned_.at(vertex) != 0; }
 
-  const std::vector<double>& masses() const { return loads_.masses(); }
-  double kineticEnergy() const;
+  const std::vector<double>& masses() const override { return loads_.masses(); }
+  double kineticEnergy() const override;
   double elasticEnergy() const { return network_.elasticEnergy(x_); }
   double externalPotential() const { return loads_.potential(x_); }  // gravity, nodal forces
   double potentialEnergy() const { return elasticEnergy() + externalPotential(); }
   Eigen::Vector3d centreOfMass() const;
   // 2 / omega_max with omega_max^2 bounded by the largest stiffness bound / mass: inside RK4's
   // stability interval (|omega dt| < 2.8) for the undamped network.
-  double stableTimeStep() const;
+  double stableTimeStep() const override;
   // Forces the obstacles exert on the nodes now touching them.
   std::vector<ContactReaction> contactReactions() const;
   // Resultant of the applied forces on each vertex now (internal, weight, nodal loads,
   // damping), before pins, fixed axes and contacts act: what a support must balance.
   std::vector<Eigen::Vector3d> appliedForces() const;
+  // r_i = m_i a_i - f_i with f the applied forces now: contacts of the held vertices are not
+  // split off, so a support pressing a held vertex onto an obstacle carries that share too.
+  std::vector<Eigen::Vector3d> holdingForces(
+      const std::vector<int>& vertices,
+      const std::vector<Eigen::Vector3d>& accelerations = {}) const override;
+  std::unique_ptr<DynamicsSnapshot> snapshot() const override;
+  void restore(const DynamicsSnapshot& snapshot) override;
+  // The quads split into triangles over the current positions.
+  DisplaySurface displaySurface() const override;
 
  private:
   void acceleration(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
@@ -100,6 +102,7 @@ class ParticleDynamics {
   std::vector<Eigen::Vector3d> mask_;  // 1 where an axis is free
   std::vector<char> pinned_;
   std::vector<Eigen::Vector3d> target_;
+  std::vector<std::array<int, 4>> quads_;  // for display
   std::vector<Eigen::Vector3d> x_, v_;
   double time_ = 0.0;
 };

@@ -31,6 +31,11 @@ class KirchhoffLovePoint {
   // Orthonormal reference lamina/fibre frame: columns e_1 = a-bar_1/|a-bar_1|, e_2, e_3 = a-bar_3.
   const Eigen::Matrix3d& laminaFrame() const { return frame_; }
   const Eigen::Matrix3d& plasticDeformation() const { return plastic_; }
+  // Restores a plastic state saved from plasticDeformation() (rolling back a step).
+  void setPlasticDeformation(const Eigen::Matrix3d& plastic) {
+    plastic_ = plastic;
+    plastic_inverse_ = plastic.inverse();
+  }
 
   // F^KL = g_i (x) g-bar^i (5.34) of the current control positions x.
   Eigen::Matrix3d deformationGradient(const std::vector<Eigen::Vector3d>& x) const;

@@ -1,0 +1,173 @@
+#pragma once
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
+#include "cloth_hair_sim/core/mpm/grid_collider.h"
+#include "cloth_hair_sim/core/mpm/mpm_particles.h"
+#include "cloth_hair_sim/core/mpm/sparse_grid.h"
+#include "cloth_hair_sim/core/shell/contact_potential.h"
+#include "cloth_hair_sim/core/shell/hencky_lamina.h"
+#include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
+#include "cloth_hair_sim/core/subdiv/limit_surface.h"
+
+namespace chs {
+
+// Resolution and model knobs of the hybrid shell. Zero or negative lengths and stiffnesses
+// mean "derive from the mesh and material" as documented per field.
+struct HybridShellSettings {
+  double grid_spacing = 0.0;  // dx [m]; <= 0: the mean control-mesh edge length
+  int kernel_degree = 2;      // B-spline degree of the grid, 2 or 3
+  double cfl = 0.3;           // no particle moves more than cfl dx in a step (Han section 5.6)
+  double rpic_damping = 0.0;  // nu of Han (5.52): 0 = APIC, 1 = RPIC
+  double damping = 0.0;       // [1/s] viscous damping -c m v on the grid (settling drapes)
+  double safety = 0.5;        // fraction of the elastic stability bound stableTimeStep() takes
+  // Kirchhoff-Love quadrature (type iv): in-plane Gauss points per face edge and the rule
+  // through the thickness (see KirchhoffLoveQuadrature).
+  KirchhoffLoveQuadrature kirchhoff_love;
+  double yield_stress = std::numeric_limits<double>::infinity();  // c_vM of Han (5.13) [Pa]
+  // Contact particles (type iii) per face edge, and their share of the cloth's mass (the rest is
+  // lumped on the control points, type ii). Default 0: (5.54) slaves a contact particle's
+  // position to the control points, so momentum it carried would be a second copy of the
+  // surface's motion that the step never reconciles: a hanging cloth then keeps a steady
+  // velocity field, its supports carry 0.9 % less than its weight, and (5.54) moves angular
+  // momentum (1e-5 relative in 200 steps). Massless, the step conserves both momenta exactly.
+  int contact_particles_per_edge = 2;
+  double contact_mass_fraction = 0.0;
+  // Fibre contact model of Han (5.21)-(5.30); stiffnesses <= 0 take the lamina's Young modulus
+  // (k^c = E, gamma = E / 10) so that contact is as stiff as the cloth's stretch.
+  ContactMaterial contact{0.0, 0.0, 0.3};
+  // Obstacles (grid boundary conditions, Han section 3.4) and their default Coulomb mu.
+  mpm::ColliderBoundary boundary = mpm::ColliderBoundary::kSeparating;
+  double friction = 0.0;
+  int display_segments = 3;  // limit-surface tessellation per face edge for displaySurface()
+};
+
+// Wall time spent in each stage of step(), summed since construction [s].
+struct HybridStageTimes {
+  double kinematics = 0.0, transfer_to_grid = 0.0, shell_forces = 0.0, grid_update = 0.0,
+         transfer_to_particles = 0.0, plasticity = 0.0;
+  int steps = 0;
+};
+
+// The hybrid Lagrangian/MPM thin shell of Han chapter 5: a garment's quad mesh is the control
+// net of a Catmull-Clark limit surface (section 5.4); its control points are MPM particles of
+// type (ii), contact particles on the surface carry the fibre a3^E (type iii), Kirchhoff-Love
+// quadrature points carry the lamina's elastoplastic state (type iv). One background grid
+// resolves contact with obstacles (boundary conditions) and between layers of the cloth
+// (the fibre contact potential). The ClothDynamics vertices are the control points.
+//
+// Explicit (symplectic Euler) steps, each the fixed sequence of Han section 5.5:
+//   surface kinematics -> transfer to grid (5.37-5.38) -> grid forces (5.46-5.49)
+//   -> grid momentum (5.40) and obstacle conditions -> transfer to particles (5.50-5.52)
+//   -> positions and trial elastic state (5.53-5.54, 5.44) -> plasticity (5.5.5).
+class HybridShellDynamics : public ClothDynamics {
+ public:
+  // Uses the problem's mesh (reference state), material (E, nu, thickness, areal density),
+  // gravity, colliders and pinned/clamped vertices (held where they are). Throws InputError for
+  // a bad mesh, material or setting.
+  explicit HybridShellDynamics(const DrapeProblem& problem,
+                               const HybridShellSettings& settings = {});
+
+  void step(double dt) override;
+  double time() const override { return time_; }
+  // min(elastic bound (membrane and bending waves over the control spacing, fibre contact),
+  // CFL cfl dx / max speed), times settings.safety for the elastic part.
+  double stableTimeStep() const override;
+
+  int numVertices() const override { return static_cast<int>(control_.x.size()); }
+  const std::vector<Eigen::Vector3d>& positions() const override { return control_.x; }
+  const std::vector<Eigen::Vector3d>& velocities() const override { return control_.v; }
+  void setPositions(const std::vector<Eigen::Vector3d>& x) override;
+  void setVelocities(const std::vector<Eigen::Vector3d>& v) override;
+  const std::vector<double>& masses() const override { return control_.mass; }
+  double kineticEnergy() const override;  // of control and contact particles
+
+  void setColliders(const RigidSurfaces& colliders,
+                    const std::vector<SurfaceVelocity>& velocities = {},
+                    const std::vector<double>& frictions = {}) override;
+  const RigidSurfaces& colliders() const override { return surfaces_; }
+
+  void pin(int vertex) override;
+  void pin(int vertex, const Eigen::Vector3d& target) override;
+  void unpin(int vertex) override;
+  bool isPinned(int vertex) const override { return pinned_.at(vertex) != 0; }
+  // The impulse the pins gave their control points in the last step, per unit time: it holds
+  // the prescribed motion, so accelerations are already in it (checked for size only).
+  std::vector<Eigen::Vector3d> holdingForces(
+      const std::vector<int>& vertices,
+      const std::vector<Eigen::Vector3d>& accelerations = {}) const override;
+
+  std::unique_ptr<DynamicsSnapshot> snapshot() const override;
+  void restore(const DynamicsSnapshot& snapshot) override;
+  // The limit surface tessellated with settings.display_segments per face edge.
+  DisplaySurface displaySurface() const override;
+
+  // Diagnostics.
+  double gridSpacing() const { return dx_; }
+  int numContactParticles() const { return contact_.size(); }
+  int numQuadraturePoints() const { return static_cast<int>(kl_points_.size()); }
+  int numGridNodes() const { return grid_.size(); }
+  double totalMass() const;
+  Eigen::Vector3d linearMomentum() const;
+  Eigen::Vector3d angularMomentum() const;  // about the origin, particles' x m v + APIC spin
+  double elasticEnergy() const;             // Kirchhoff-Love lamina energy now
+  // Deepest penetration of the tessellated limit surface into the colliders (>= 0).
+  double deepestPenetration() const;
+  const HybridStageTimes& stageTimes() const { return times_; }
+  const LimitSurface& limitSurface() const { return *surface_; }
+  // Points of the limit surface now (the display samples), for audits.
+  std::vector<Eigen::Vector3d> surfacePoints() const;
+
+ private:
+  // The stages of step(), Han section 5.5.
+  void updateSurfaceKinematics();
+  void transferToGrid();
+  void computeGridForces();
+  void updateGridMomentum(double dt);
+  void transferToParticles(double dt);
+  void updatePositionsAndTrialState(double dt);
+  void updatePlasticity();
+  void checkVertex(int vertex) const;
+
+  HybridShellSettings settings_;
+  double thickness_ = 0.0, areal_density_ = 0.0, young_ = 0.0, poisson_ = 0.0;
+  double control_spacing_ = 0.0;  // mean control edge length
+  double dx_ = 0.0;
+  Eigen::Vector3d gravity_;
+  std::shared_ptr<const LimitSurface> surface_;
+  HenckyLamina lamina_;
+  std::vector<KirchhoffLovePoint> kl_points_;  // type (iv)
+  ContactMaterial contact_material_;
+
+  mpm::Particles control_;   // type (ii): F is the per-step velocity gradient map, reset each step
+  struct ContactParticles {  // type (iii)
+    std::vector<SurfaceStencil> stencil;
+    mpm::Particles p;                          // F: as for control_
+    std::vector<Eigen::Vector3d> fibre;        // a3^E, Han (5.5)
+    std::vector<Eigen::Vector3d> fibre_force;  // -V dchi/da3 at the start of the step
+    int size() const { return p.size(); }
+  } contact_;
+  std::vector<SurfaceStencil> display_stencils_;
+  std::vector<std::array<int, 3>> display_triangles_;
+
+  mpm::SparseGrid grid_;
+  std::vector<Eigen::Vector3d> control_force_;  // -dPsi/dx_p on control points this step
+  std::vector<Eigen::Vector3d> kl_gradient_;    // dPsi^KL/dx_p
+
+  RigidSurfaces surfaces_;
+  std::vector<mpm::GridCollider> grid_colliders_;
+
+  std::vector<char> pinned_;
+  std::vector<Eigen::Vector3d> target_;
+  std::vector<Eigen::Vector3d> pin_force_;  // support force on each control point, last step
+
+  double time_ = 0.0;
+  HybridStageTimes times_;
+};
+
+}  // namespace chs

@@ -1,0 +1,67 @@
+#include "cloth_hair_sim/core/mpm/grid_forces.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/mpm/bspline_kernel.h"
+
+namespace chs::mpm {
+namespace {
+
+// Adds contribution(particle, stencil, i, j, k) to the force of every node in each particle's
+// support.
+template <int D, class Contribution>
+void scatter(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x, Contribution&& contribution) {
+  const int nn = grid.size(), n = ParticleStencil<D>::kSupport;
+  tbb::enumerable_thread_specific<std::vector<Eigen::Vector3d>> local(
+      [nn] { return std::vector<Eigen::Vector3d>(nn, Eigen::Vector3d::Zero()); });
+  tbb::parallel_for(0, static_cast<int>(x.size()), [&](int p) {
+    std::vector<Eigen::Vector3d>& f = local.local();
+    const ParticleStencil<D> s(x[p], grid.spacing());
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k) {
+          const int node = grid.find(s.base + Eigen::Vector3i(i, j, k));
+          if (node >= 0) f[node] += contribution(p, s, i, j, k);
+        }
+  });
+  for (const auto& f : local)
+    for (int i = 0; i < nn; ++i) grid.force[i] += f[i];
+}
+
+void checkSizes(std::size_t a, std::size_t b, const char* what) {
+  if (a != b)
+    throw InputError(std::string("grid forces: ") + std::to_string(b) + " " + what + " for " +
+                     std::to_string(a) + " particles");
+}
+
+}  // namespace
+
+void scatterPointForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
+                        const std::vector<Eigen::Vector3d>& f, int degree) {
+  checkSizes(x.size(), f.size(), "forces");
+  auto c = [&](int p, const auto& s, int i, int j, int k) -> Eigen::Vector3d {
+    return s.weight(i, j, k) * f[p];
+  };
+  if (degree == 2)
+    scatter<2>(grid, x, c);
+  else
+    scatter<3>(grid, x, c);
+}
+
+void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
+                        const std::vector<Eigen::Vector3d>& fibres,
+                        const std::vector<Eigen::Vector3d>& t, int degree) {
+  checkSizes(x.size(), fibres.size(), "fibres");
+  checkSizes(x.size(), t.size(), "fibre forces");
+  auto c = [&](int p, const auto& s, int i, int j, int k) -> Eigen::Vector3d {
+    return s.gradient(i, j, k).dot(fibres[p]) * t[p];
+  };
+  if (degree == 2)
+    scatter<2>(grid, x, c);
+  else
+    scatter<3>(grid, x, c);
+}
+
+}  // namespace chs::mpm

@@ -1,0 +1,478 @@
+#include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/mesh/mesh_check.h"
+#include "cloth_hair_sim/core/mpm/bspline_kernel.h"
+#include "cloth_hair_sim/core/mpm/grid_forces.h"
+#include "cloth_hair_sim/core/mpm/transfers.h"
+
+namespace chs {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+using Clock = std::chrono::steady_clock;
+
+// Adds the wall time of its scope to a stage's total.
+class StageTimer {
+ public:
+  explicit StageTimer(double& total) : total_(total), start_(Clock::now()) {}
+  ~StageTimer() { total_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+ private:
+  double& total_;
+  Clock::time_point start_;
+};
+
+const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSettings& s) {
+  problem.validate();
+  checkMesh(problem.mesh);
+  auto positive = [](double v, const char* what) {
+    if (!(std::isfinite(v) && v > 0.0))
+      throw InputError(std::string("hybrid shell: ") + what + " must be positive and finite");
+  };
+  positive(problem.material.young, "Young's modulus");
+  positive(problem.material.thickness, "thickness");
+  positive(problem.material.areal_density, "areal density");
+  if (!std::isfinite(s.grid_spacing)) throw InputError("hybrid shell: grid spacing is not finite");
+  if (s.kernel_degree != 2 && s.kernel_degree != 3)
+    throw InputError("hybrid shell: kernel degree must be 2 or 3");
+  positive(s.cfl, "CFL number");
+  positive(s.safety, "time step safety factor");
+  if (!(s.rpic_damping >= 0.0 && s.rpic_damping <= 1.0))
+    throw InputError("hybrid shell: RPIC damping must lie in [0, 1]");
+  if (!(s.damping >= 0.0 && std::isfinite(s.damping)))
+    throw InputError("hybrid shell: damping must be >= 0 and finite");
+  if (s.contact_particles_per_edge < 1 || s.contact_particles_per_edge > 8)
+    throw InputError("hybrid shell: contact particles per face edge must lie in 1..8");
+  if (!(s.contact_mass_fraction >= 0.0 && s.contact_mass_fraction < 1.0))
+    throw InputError("hybrid shell: contact mass fraction must lie in [0, 1)");
+  if (!(s.friction >= 0.0 && std::isfinite(s.friction)))
+    throw InputError("hybrid shell: collider friction must be >= 0 and finite");
+  if (s.display_segments < 1 || s.display_segments > 16)
+    throw InputError("hybrid shell: display segments per face edge must lie in 1..16");
+  return problem;
+}
+
+double meanEdgeLength(const QuadMesh& mesh) {
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& q : mesh.quads)
+    for (int k = 0; k < 4; ++k, ++n)
+      sum += (mesh.vertices[q[(k + 1) % 4]] - mesh.vertices[q[k]]).norm();
+  return sum / n;
+}
+
+// Tangents a1, a2 of the surface at a stencil.
+void tangents(const SurfaceStencil& s, const std::vector<Vec3>& x, Vec3& a1, Vec3& a2) {
+  a1 = s.combine(s.du, x);
+  a2 = s.combine(s.dv, x);
+}
+
+struct HybridSnapshot : DynamicsSnapshot {
+  mpm::Particles control, contact;
+  std::vector<Vec3> fibre;
+  std::vector<Eigen::Matrix3d> plastic;  // F^{KL,P} of each quadrature point
+  std::vector<Vec3> pin_force;
+  double time = 0.0;
+};
+
+}  // namespace
+
+HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
+                                         const HybridShellSettings& settings)
+    : settings_(settings),
+      thickness_(validated(problem, settings).material.thickness),
+      areal_density_(problem.material.areal_density),
+      young_(problem.material.young),
+      poisson_(problem.material.poisson),
+      control_spacing_(meanEdgeLength(problem.mesh)),
+      dx_(settings.grid_spacing > 0.0 ? settings.grid_spacing : control_spacing_),
+      gravity_(problem.gravity),
+      surface_(std::make_shared<LimitSurface>(problem.mesh)),
+      lamina_(problem.material.young, problem.material.poisson, settings.yield_stress),
+      kl_points_(buildKirchhoffLovePoints(
+          surface_->numFaces(),
+          [this](int f, double u, double v) { return surface_->stencil(f, u, v); },
+          problem.mesh.vertices, problem.material.thickness, settings.kirchhoff_love)),
+      grid_(dx_) {
+  contact_material_ = settings.contact;
+  if (contact_material_.normal_stiffness <= 0.0) contact_material_.normal_stiffness = young_;
+  if (contact_material_.shear_stiffness <= 0.0) contact_material_.shear_stiffness = 0.1 * young_;
+  contact_material_.validate();
+
+  const std::vector<Vec3>& x0 = problem.mesh.vertices;
+  const int nc = static_cast<int>(x0.size());
+  const double frac = settings.contact_mass_fraction;
+  // Type (ii): control points, mass lumped as the integral of rho_A N_p over the limit surface
+  // (the basis is a partition of unity, so the masses sum to rho_A times the area).
+  std::vector<double> lumped(nc, 0.0);
+  const double g = 0.5 / std::sqrt(3.0);  // 2-point Gauss on [0, 1] at 1/2 -+ g
+  const int n = settings.contact_particles_per_edge;
+  for (int f = 0; f < surface_->numFaces(); ++f) {
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        // Type (iii): one contact particle at the centre of each of n x n sub-cells; the cell's
+        // area comes from 2 x 2 Gauss points, which also lump the control masses.
+        double cell_area = 0.0;
+        for (double gu : {0.5 - g, 0.5 + g})
+          for (double gv : {0.5 - g, 0.5 + g}) {
+            const SurfaceStencil s = surface_->stencil(f, (a + gu) / n, (b + gv) / n);
+            Vec3 a1, a2;
+            tangents(s, x0, a1, a2);
+            const double da = 0.25 * a1.cross(a2).norm() / (n * n);
+            cell_area += da;
+            for (int k = 0; k < s.size(); ++k)
+              lumped[s.points[k]] += (1.0 - frac) * areal_density_ * da * s.w[k];
+          }
+        SurfaceStencil s = surface_->stencil(f, (a + 0.5) / n, (b + 0.5) / n);
+        Vec3 a1, a2;
+        tangents(s, x0, a1, a2);
+        contact_.p.add(s.position(x0), Vec3::Zero(), frac * areal_density_ * cell_area,
+                       cell_area * thickness_);
+        contact_.fibre.push_back(a1.cross(a2).normalized());  // unstressed: a3^E = a3 (5.5)
+        contact_.stencil.push_back(std::move(s));
+      }
+  }
+  contact_.fibre_force.assign(contact_.size(), Vec3::Zero());
+  for (int p = 0; p < nc; ++p) control_.add(x0[p], Vec3::Zero(), lumped[p], 0.0);
+  for (int p = 0; p < nc; ++p)
+    if (!(lumped[p] > 0.0))
+      throw InputError("hybrid shell: control point " + std::to_string(p) +
+                       " carries no mass (it influences no part of the limit surface)");
+  control_force_.assign(nc, Vec3::Zero());
+
+  const LimitTessellation t = surface_->tessellate(settings.display_segments);
+  for (const SurfacePoint& sp : t.samples)
+    display_stencils_.push_back(surface_->stencil(sp.face, sp.u, sp.v));
+  display_triangles_ = t.triangles;
+
+  pinned_.assign(nc, 0);
+  target_ = x0;
+  pin_force_.assign(nc, Vec3::Zero());
+  for (int v : problem.bc.clamped) pinned_[v] = 1;
+  for (int v : problem.bc.pinned) pinned_[v] = 1;
+  setColliders(problem.colliders);
+}
+
+void HybridShellDynamics::step(double dt) {
+  if (!(dt > 0.0 && std::isfinite(dt)))
+    throw InputError("hybrid shell: time step must be positive, got " + std::to_string(dt));
+  // Pins carry their control points to the target at constant velocity over this step.
+  for (int p = 0; p < numVertices(); ++p)
+    if (pinned_[p]) control_.v[p] = (target_[p] - control_.x[p]) / dt;
+  {
+    StageTimer t(times_.transfer_to_grid);
+    transferToGrid();
+  }
+  {
+    StageTimer t(times_.shell_forces);
+    computeGridForces();
+  }
+  {
+    StageTimer t(times_.grid_update);
+    updateGridMomentum(dt);
+  }
+  {
+    StageTimer t(times_.transfer_to_particles);
+    transferToParticles(dt);
+    updatePositionsAndTrialState(dt);
+  }
+  {
+    StageTimer t(times_.plasticity);
+    updatePlasticity();
+  }
+  time_ += dt;
+  ++times_.steps;
+}
+
+// Han (5.37)-(5.38): APIC transfer of control and contact particles onto one grid.
+void HybridShellDynamics::transferToGrid() {
+  mpm::particleToGrid({&control_, &contact_.p}, grid_, settings_.kernel_degree);
+}
+
+// Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the Kirchhoff-Love forces on the control
+// points (5.32) and the contact forces through the surface tangents reach the grid with the
+// control points' weights (5.48); the fibre part of the contact force with the weight
+// gradients (5.49).
+void HybridShellDynamics::computeGridForces() {
+  const int nc = numVertices();
+  std::fill(control_force_.begin(), control_force_.end(), Vec3::Zero());
+  kirchhoffLoveEnergy(kl_points_, lamina_, control_.x, &kl_gradient_);
+  for (int p = 0; p < nc; ++p) control_force_[p] = -kl_gradient_[p];  // (5.32)
+  tbb::enumerable_thread_specific<std::vector<Vec3>> local(
+      [nc] { return std::vector<Vec3>(nc, Vec3::Zero()); });
+  tbb::parallel_for(0, contact_.size(), [&](int p) {
+    const SurfaceStencil& s = contact_.stencil[p];
+    Vec3 a1, a2;
+    tangents(s, control_.x, a1, a2);
+    const ContactEnergy e = contactEnergy(a1, a2, contact_.fibre[p], contact_material_);
+    const double V = contact_.p.volume0[p];
+    std::vector<Vec3>& f = local.local();
+    for (int k = 0; k < s.size(); ++k) f[s.points[k]] -= V * (s.du[k] * e.d_a1 + s.dv[k] * e.d_a2);
+    contact_.fibre_force[p] = -V * e.d_a3;
+  });
+  for (const auto& f : local)
+    for (int p = 0; p < nc; ++p) control_force_[p] += f[p];
+  mpm::scatterPointForces(grid_, control_.x, control_force_, settings_.kernel_degree);
+  mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
+                          settings_.kernel_degree);
+}
+
+// Han (5.40) with gravity, then the obstacles' boundary conditions (section 3.4). Viscous
+// damping acts on the incoming momentum m_i v_i^n, taken implicitly so that it never reverses
+// a velocity; applied after the forces it would also eat a fraction c dt of each step's weight
+// and a held cloth's supports would carry less than its weight.
+void HybridShellDynamics::updateGridMomentum(double dt) {
+  if (settings_.damping > 0.0) {
+    const double keep = 1.0 / (1.0 + settings_.damping * dt);
+    for (int i = 0; i < grid_.size(); ++i) {
+      grid_.velocity[i] *= keep;
+      grid_.momentum[i] *= keep;
+    }
+  }
+  mpm::updateGridVelocity(grid_, gravity_, dt);
+  mpm::applyGridColliders(grid_, grid_colliders_);
+}
+
+// Han (5.50)-(5.53): velocities and affine velocities from the grid; control points move with
+// the grid. F of each particle becomes I + dt grad v (5.43)-(5.44), the map of this step.
+void HybridShellDynamics::transferToParticles(double dt) {
+  for (auto* set : {&control_, &contact_.p})
+    std::fill(set->F.begin(), set->F.end(), Eigen::Matrix3d::Identity());
+  mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt);
+  mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt);
+}
+
+// Pins, obstacles for the control points, (5.54) for the contact particles and the trial
+// fibres (5.44).
+void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
+  for (int p = 0; p < numVertices(); ++p) {
+    if (pinned_[p]) {
+      const Vec3 v_free = control_.v[p];
+      const Vec3 x_start = control_.x[p] - dt * v_free;
+      control_.v[p] = (target_[p] - x_start) / dt;
+      control_.x[p] = target_[p];
+      pin_force_[p] = control_.mass[p] * (control_.v[p] - v_free) / dt;
+      continue;
+    }
+    pin_force_[p].setZero();
+    // The grid conditions act on nodes; a control point can still end a step inside an
+    // obstacle by up to a cell. Put it back on the surface and take away its inward relative
+    // velocity, as a collision impulse would.
+    for (std::size_t c = 0; c < surfaces_.size(); ++c) {
+      const SurfaceProjection pr = surfaces_[c]->project(control_.x[p]);
+      if (pr.gap >= 0.0) continue;
+      control_.x[p] -= pr.gap * pr.normal;
+      const Vec3 vc = grid_colliders_[c].velocity.at(control_.x[p]);
+      const double vn = (control_.v[p] - vc).dot(pr.normal);
+      if (vn < 0.0) control_.v[p] -= vn * pr.normal;
+    }
+  }
+  tbb::parallel_for(0, contact_.size(), [&](int p) {
+    contact_.p.x[p] = contact_.stencil[p].position(control_.x);  // (5.54)
+    contact_.fibre[p] = contact_.p.F[p] * contact_.fibre[p];     // (5.44)
+  });
+}
+
+// Section 5.5.5: denting return mapping at the quadrature points, Coulomb return mapping
+// (5.29)-(5.30) of the fibres.
+void HybridShellDynamics::updatePlasticity() {
+  updateKirchhoffLovePlasticity(kl_points_, lamina_, control_.x);
+  tbb::parallel_for(0, contact_.size(), [&](int p) {
+    Vec3 a1, a2;
+    tangents(contact_.stencil[p], control_.x, a1, a2);
+    contact_.fibre[p] = projectContactFibre(a1, a2, contact_.fibre[p], contact_material_);
+  });
+}
+
+double HybridShellDynamics::stableTimeStep() const {
+  const double h = std::min(control_spacing_, dx_);
+  const double membrane = young_ * thickness_ / (1.0 - poisson_ * poisson_);
+  const double bending = membrane * thickness_ * thickness_ / 12.0;
+  // Fastest membrane wave over a control spacing, fastest flexural wave at wavenumber pi / h,
+  // and the fibre contact stiffness over a cell.
+  const double dt_membrane = h / std::sqrt(membrane / areal_density_);
+  const double dt_bending = 2.0 * h * h / (M_PI * M_PI * std::sqrt(bending / areal_density_));
+  const double k = std::max(contact_material_.normal_stiffness, contact_material_.shear_stiffness);
+  const double dt_contact = dx_ / std::sqrt(k * thickness_ / areal_density_);
+  double dt = settings_.safety * std::min({dt_membrane, dt_bending, dt_contact});
+  double vmax = 0.0;
+  for (const auto& v : control_.v) vmax = std::max(vmax, v.norm());
+  if (vmax > 0.0) dt = std::min(dt, settings_.cfl * dx_ / vmax);
+  return dt;
+}
+
+void HybridShellDynamics::setPositions(const std::vector<Vec3>& x) {
+  if (static_cast<int>(x.size()) != numVertices())
+    throw InputError("hybrid shell: " + std::to_string(x.size()) + " positions for " +
+                     std::to_string(numVertices()) + " control points");
+  control_.x = x;
+  for (int p = 0; p < contact_.size(); ++p) contact_.p.x[p] = contact_.stencil[p].position(x);
+}
+
+void HybridShellDynamics::setVelocities(const std::vector<Vec3>& v) {
+  if (static_cast<int>(v.size()) != numVertices())
+    throw InputError("hybrid shell: " + std::to_string(v.size()) + " velocities for " +
+                     std::to_string(numVertices()) + " control points");
+  control_.v = v;
+  for (auto& C : control_.C) C.setZero();
+  // Contact particles take the surface's velocity; their affine part restarts at zero.
+  for (int p = 0; p < contact_.size(); ++p) {
+    contact_.p.v[p] = contact_.stencil[p].position(v);
+    contact_.p.C[p].setZero();
+  }
+}
+
+double HybridShellDynamics::kineticEnergy() const {
+  double e = 0.0;
+  for (const auto* set : {&control_, &contact_.p})
+    for (int p = 0; p < set->size(); ++p) e += 0.5 * set->mass[p] * set->v[p].squaredNorm();
+  return e;
+}
+
+void HybridShellDynamics::setColliders(const RigidSurfaces& colliders,
+                                       const std::vector<SurfaceVelocity>& velocities,
+                                       const std::vector<double>& frictions) {
+  if (!velocities.empty() && velocities.size() != colliders.size())
+    throw InputError("hybrid shell: " + std::to_string(velocities.size()) + " velocities for " +
+                     std::to_string(colliders.size()) + " colliders");
+  if (!frictions.empty() && frictions.size() != colliders.size())
+    throw InputError("hybrid shell: " + std::to_string(frictions.size()) + " frictions for " +
+                     std::to_string(colliders.size()) + " colliders");
+  std::vector<mpm::GridCollider> grid_colliders;
+  for (std::size_t c = 0; c < colliders.size(); ++c) {
+    if (!colliders[c]) throw InputError("hybrid shell: collider " + std::to_string(c) + " is null");
+    mpm::GridCollider g;
+    g.surface = colliders[c];
+    if (!velocities.empty()) g.velocity = velocities[c];
+    g.boundary = settings_.boundary;
+    g.friction = frictions.empty() ? settings_.friction : frictions[c];
+    if (!(g.friction >= 0.0 && std::isfinite(g.friction)))
+      throw InputError("hybrid shell: collider " + std::to_string(c) + " has friction " +
+                       std::to_string(g.friction));
+    grid_colliders.push_back(g);
+  }
+  surfaces_ = colliders;
+  grid_colliders_ = std::move(grid_colliders);
+}
+
+void HybridShellDynamics::checkVertex(int vertex) const {
+  if (vertex < 0 || vertex >= numVertices())
+    throw InputError("hybrid shell: control point " + std::to_string(vertex) + " out of range (" +
+                     std::to_string(numVertices()) + " control points)");
+}
+
+void HybridShellDynamics::pin(int vertex) {
+  checkVertex(vertex);
+  pin(vertex, control_.x[vertex]);
+}
+
+void HybridShellDynamics::pin(int vertex, const Vec3& target) {
+  checkVertex(vertex);
+  if (!target.allFinite()) throw InputError("hybrid shell: pin target is not finite");
+  pinned_[vertex] = 1;
+  target_[vertex] = target;
+}
+
+void HybridShellDynamics::unpin(int vertex) {
+  checkVertex(vertex);
+  pinned_[vertex] = 0;
+  pin_force_[vertex].setZero();
+}
+
+std::vector<Vec3> HybridShellDynamics::holdingForces(const std::vector<int>& vertices,
+                                                     const std::vector<Vec3>& accelerations) const {
+  if (!accelerations.empty() && accelerations.size() != vertices.size())
+    throw InputError("holding forces: " + std::to_string(accelerations.size()) +
+                     " accelerations for " + std::to_string(vertices.size()) + " vertices");
+  std::vector<Vec3> r;
+  for (int v : vertices) {
+    checkVertex(v);
+    r.push_back(pin_force_[v]);
+  }
+  return r;
+}
+
+std::unique_ptr<DynamicsSnapshot> HybridShellDynamics::snapshot() const {
+  auto s = std::make_unique<HybridSnapshot>();
+  s->control = control_;
+  s->contact = contact_.p;
+  s->fibre = contact_.fibre;
+  for (const auto& q : kl_points_) s->plastic.push_back(q.plasticDeformation());
+  s->pin_force = pin_force_;
+  s->time = time_;
+  return s;
+}
+
+void HybridShellDynamics::restore(const DynamicsSnapshot& snapshot) {
+  const auto& s = dynamic_cast<const HybridSnapshot&>(snapshot);
+  control_ = s.control;
+  contact_.p = s.contact;
+  contact_.fibre = s.fibre;
+  for (std::size_t q = 0; q < kl_points_.size(); ++q)
+    kl_points_[q].setPlasticDeformation(s.plastic[q]);
+  pin_force_ = s.pin_force;
+  time_ = s.time;
+}
+
+std::vector<Vec3> HybridShellDynamics::surfacePoints() const {
+  std::vector<Vec3> x(display_stencils_.size());
+  tbb::parallel_for(0, static_cast<int>(x.size()),
+                    [&](int i) { x[i] = display_stencils_[i].position(control_.x); });
+  return x;
+}
+
+DisplaySurface HybridShellDynamics::displaySurface() const {
+  return {surfacePoints(), display_triangles_};
+}
+
+double HybridShellDynamics::totalMass() const {
+  double m = 0.0;
+  for (const auto* set : {&control_, &contact_.p})
+    for (double mp : set->mass) m += mp;
+  return m;
+}
+
+Vec3 HybridShellDynamics::linearMomentum() const {
+  Vec3 P = Vec3::Zero();
+  for (const auto* set : {&control_, &contact_.p})
+    for (int p = 0; p < set->size(); ++p) P += set->mass[p] * set->v[p];
+  return P;
+}
+
+Vec3 HybridShellDynamics::angularMomentum() const {
+  // APIC carries angular momentum in C as well: m D eps : C^T with D = dx^2 (d + 1) / 12 I the
+  // kernel's inertia (Jiang et al. 2015).
+  const double D =
+      1.0 / (settings_.kernel_degree == 2 ? mpm::ParticleStencil<2>::inverseInertia(dx_)
+                                          : mpm::ParticleStencil<3>::inverseInertia(dx_));
+  Vec3 L = Vec3::Zero();
+  for (const auto* set : {&control_, &contact_.p})
+    for (int p = 0; p < set->size(); ++p) {
+      const Eigen::Matrix3d& C = set->C[p];
+      L += set->mass[p] * (set->x[p].cross(set->v[p]) +
+                           D * Vec3(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1)));
+    }
+  return L;
+}
+
+double HybridShellDynamics::elasticEnergy() const {
+  return kirchhoffLoveEnergy(kl_points_, lamina_, control_.x);
+}
+
+double HybridShellDynamics::deepestPenetration() const {
+  double depth = 0.0;
+  for (const Vec3& x : surfacePoints())
+    for (const auto& s : surfaces_) depth = std::max(depth, -s->project(x).gap);
+  return depth;
+}
+
+}  // namespace chs
