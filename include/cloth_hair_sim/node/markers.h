@@ -17,7 +17,8 @@ visualization_msgs::Marker garmentMarker(const chs::QuadMesh& mesh,
                                          const std::vector<Eigen::Vector3d>& positions, int id,
                                          int colour);
 
-// A collider as a primitive marker in namespace "colliders" (a plane as a thin 4 x 4 m slab).
+// A collider as a primitive marker in namespace "colliders" (a plane as a thin 4 x 4 m slab, a
+// capsule or mesh as a TRIANGLE_LIST).
 visualization_msgs::Marker colliderMarker(const TrackedCollider& collider, int id);
 
 // The mesh at positions, each quad split into two triangles with the quad's winding.
