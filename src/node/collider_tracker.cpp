@@ -1,6 +1,11 @@
 #include "cloth_hair_sim/node/collider_tracker.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
 
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -56,7 +61,78 @@ Eigen::Isometry3d parseOffset(XmlRpc::XmlRpcValue& v, const std::string& where) 
   return t;
 }
 
+// A per-axis scale: one number for all axes or [x, y, z].
+Eigen::Vector3d parseScale(XmlRpc::XmlRpcValue& v, const std::string& where) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeArray) return triple(v, where);
+  return Eigen::Vector3d::Constant(number(v, where));
+}
+
+namespace fs = std::filesystem;
+
+// The <name> in dir/package.xml, or "" when dir holds no package.
+std::string packageName(const fs::path& dir) {
+  std::ifstream in(dir / "package.xml");
+  if (!in) return "";
+  std::stringstream text;
+  text << in.rdbuf();
+  std::smatch m;
+  const std::string xml = text.str();
+  static const std::regex name("<name>\\s*([^<\\s]+)\\s*</name>");
+  return std::regex_search(xml, m, name) ? m[1].str() : "";
+}
+
+// Depth-first search below root, not descending into packages (as rospack crawls).
+bool findPackage(const fs::path& root, const std::string& package, int depth, fs::path& found) {
+  std::error_code ec;
+  if (depth < 0 || !fs::is_directory(root, ec) || fs::exists(root / "CATKIN_IGNORE", ec))
+    return false;
+  if (fs::exists(root / "package.xml", ec)) {
+    if (packageName(root) != package) return false;
+    found = root;
+    return true;
+  }
+  for (fs::directory_iterator it(root, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end; it.increment(ec))
+    if (it->is_directory(ec) && findPackage(it->path(), package, depth - 1, found)) return true;
+  return false;
+}
+
+std::vector<std::string> pathList(const char* variable) {
+  std::vector<std::string> out;
+  const char* value = std::getenv(variable);
+  std::stringstream s(value ? value : "");
+  for (std::string item; std::getline(s, item, ':');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
 }  // namespace
+
+std::string resolveMeshUrl(const std::string& url) {
+  const std::string package_scheme = "package://", file_scheme = "file://";
+  if (url.rfind(file_scheme, 0) == 0) return url.substr(file_scheme.size());
+  if (url.rfind(package_scheme, 0) != 0) {
+    if (url.find("://") != std::string::npos)
+      throw chs::InputError("mesh '" + url + "': only package:// and file:// URLs are supported");
+    return url;
+  }
+  const std::string rest = url.substr(package_scheme.size());
+  const size_t slash = rest.find('/');
+  const std::string package = rest.substr(0, slash);
+  const std::string inside = slash == std::string::npos ? "" : rest.substr(slash + 1);
+  std::vector<fs::path> roots;
+  for (const auto& r : pathList("ROS_PACKAGE_PATH")) roots.emplace_back(r);
+  for (const auto& prefix : pathList("CMAKE_PREFIX_PATH"))
+    roots.push_back(fs::path(prefix) / "share" / package);
+  for (const auto& root : roots)  // the usual layout first: <root>/<package>
+    if (packageName(root / package) == package) return (root / package / inside).string();
+  for (const auto& root : roots) {
+    fs::path found;
+    if (findPackage(root, package, 6, found)) return (found / inside).string();
+  }
+  throw chs::InputError("mesh '" + url + "': package '" + package +
+                        "' not found under ROS_PACKAGE_PATH or CMAKE_PREFIX_PATH");
+}
 
 std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list) {
   if (list.getType() != XmlRpc::XmlRpcValue::TypeArray)
@@ -86,6 +162,12 @@ std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list) {
         t.shape.edge_radius = number(kv.second, where + ".edge_radius");
       else if (key == "friction")
         t.friction = number(kv.second, where + ".friction");
+      else if (key == "file")
+        t.shape.mesh_file = resolveMeshUrl(text(kv.second, where + ".file"));
+      else if (key == "scale")
+        t.shape.mesh_scale = parseScale(kv.second, where + ".scale");
+      else if (key == "voxel_size")
+        t.shape.mesh_resolution.voxel_size = number(kv.second, where + ".voxel_size");
       else
         throw chs::InputError(where + ": unknown key '" + key + "'");
     }
@@ -97,8 +179,14 @@ std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list) {
       throw chs::InputError(where + ": friction must be >= 0");
     for (const auto& other : out)
       if (other.name == t.name) throw chs::InputError(where + ": name used twice");
+    const bool mesh_keys = !t.shape.mesh_file.empty() ||
+                           t.shape.mesh_scale != Eigen::Vector3d::Ones() ||
+                           t.shape.mesh_resolution.voxel_size != 0.0;
+    if (mesh_keys && t.shape.type != chs::ColliderShape::Type::kMesh)
+      throw chs::InputError(where + ": file, scale and voxel_size belong to shape: mesh");
     try {
       t.shape.validate();
+      if (t.shape.type == chs::ColliderShape::Type::kMesh) t.shape.meshField();  // build it now
     } catch (const chs::InputError& e) {
       throw chs::InputError(where + ": " + e.what());
     }

@@ -55,6 +55,16 @@ void addCapsuleTriangles(double radius, double length, visualization_msgs::Marke
         m.points.push_back(p);
 }
 
+// The collider's own (scaled) triangles in its shape frame. A closed mesh need not be
+// consistently wound, and rviz culls back faces, so both windings are drawn.
+void addMeshTriangles(const chs::TriangleMesh& mesh, visualization_msgs::Marker& m) {
+  m.points.reserve(6 * mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    for (int k : {0, 1, 2}) m.points.push_back(point(mesh.vertices[t[k]]));
+    for (int k : {0, 2, 1}) m.points.push_back(point(mesh.vertices[t[k]]));
+  }
+}
+
 }  // namespace
 
 std::vector<visualization_msgs::Marker> garmentMarkers(const chs::DisplaySurface& surface, int id,
@@ -125,6 +135,11 @@ visualization_msgs::Marker colliderMarker(const TrackedCollider& c, int id) {
       m.type = visualization_msgs::Marker::TRIANGLE_LIST;
       m.scale.x = m.scale.y = m.scale.z = 1.0;
       addCapsuleTriangles(d[0], d[1], m);
+      break;
+    case chs::ColliderShape::Type::kMesh:
+      m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+      m.scale.x = m.scale.y = m.scale.z = 1.0;
+      addMeshTriangles(c.shape.meshField()->mesh(), m);
       break;
   }
   m.pose = tf2::toMsg(pose);

@@ -39,12 +39,21 @@ bool toShape(const urdf::Collision& c, const std::string& where, chs::ColliderSh
       shape.dimensions = {cyl.radius, cyl.length};
       return true;
     }
-    case urdf::Geometry::MESH:
-      warnings.push_back(where + ": mesh collision geometry ('" +
-                         static_cast<const urdf::Mesh&>(*c.geometry).filename +
-                         "') is not supported yet; skipped (use spheres, boxes, cylinders or "
-                         "capsules)");
-      return false;
+    case urdf::Geometry::MESH: {
+      // A mesh collider needs a closed surface: a file that cannot give one is skipped with a
+      // warning, as robots often carry open visual-grade meshes on minor links.
+      const auto& mesh = static_cast<const urdf::Mesh&>(*c.geometry);
+      shape.type = chs::ColliderShape::Type::kMesh;
+      shape.mesh_scale = Eigen::Vector3d(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+      try {
+        shape.mesh_file = resolveMeshUrl(mesh.filename);
+        shape.meshField();  // built now, once: errors show at startup, not mid-simulation
+      } catch (const chs::InputError& e) {
+        warnings.push_back(where + ": mesh '" + mesh.filename + "' skipped: " + e.what());
+        return false;
+      }
+      return true;
+    }
   }
   return false;
 }

@@ -25,10 +25,19 @@ struct TrackedCollider {
 };
 
 // Parses the ~colliders parameter: a list of {name, frame_id, shape:
-// plane|sphere|box|cylinder|capsule, dimensions: [...], offset: {xyz: [x, y, z], rpy: [r, p, y]}
-// (optional), edge_radius (optional), friction (optional Coulomb mu, default 0)}. Throws
+// plane|sphere|box|cylinder|capsule|mesh, dimensions: [...], offset: {xyz: [x, y, z], rpy: [r, p,
+// y]} (optional), edge_radius (optional), friction (optional Coulomb mu, default 0)}. A mesh takes
+// no dimensions but file: <path, file:// or package:// URL>, scale: <number or [x, y, z]>
+// (optional, 0.001 for a file in mm) and voxel_size (optional, m; default in MeshSdfResolution);
+// its distance field is built here, so a broken mesh is reported at startup. Throws
 // chs::InputError naming the collider and key at fault.
 std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list);
+
+// A mesh location as a file path: "package://<pkg>/<path>" is looked up in the packages under
+// ROS_PACKAGE_PATH and the share/ folders of CMAKE_PREFIX_PATH (as rospack finds them: a folder
+// holding a package.xml with that <name>), "file://<path>" is the path, anything without a
+// scheme is taken as a path. Throws chs::InputError for another scheme or an unknown package.
+std::string resolveMeshUrl(const std::string& url);
 
 // Keeps the colliders' world poses current from tf. A frame that cannot be looked up keeps its
 // last pose (so the cloth is never teleported by a dropped transform) and is reported stale.

@@ -19,7 +19,8 @@ namespace chs_node {
 std::vector<visualization_msgs::Marker> garmentMarkers(const chs::DisplaySurface& surface, int id,
                                                        int colour, double back_offset);
 
-// A collider as a primitive marker in namespace "colliders" (a plane as a thin 4 x 4 m slab).
+// A collider as a primitive marker in namespace "colliders" (a plane as a thin 4 x 4 m slab, a
+// capsule or mesh as a TRIANGLE_LIST).
 visualization_msgs::Marker colliderMarker(const TrackedCollider& collider, int id);
 
 // The mesh at positions, each quad split into two triangles with the quad's winding.

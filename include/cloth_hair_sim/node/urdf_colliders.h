@@ -12,9 +12,12 @@ namespace chs_node {
 // link's tf frame with the collision origin as its offset. urdfdom 3 (Debian 12) has no capsule
 // tag, so a URDF writes a capsule as a cylinder capped by two spheres of its radius at its end
 // centres; such a triple in one link becomes one capsule collider (smooth, one distance query).
+// A <mesh filename="package://... or file://..." scale="x y z"/> becomes a mesh collider, its
+// distance field built while parsing; a mesh that is missing or not closed is skipped with a
+// warning.
 struct UrdfColliders {
   std::vector<TrackedCollider> colliders;
-  std::vector<std::string> warnings;  // skipped geometry (meshes), named by link
+  std::vector<std::string> warnings;  // skipped geometry (unreadable or open meshes), by link
 };
 
 // Throws chs::InputError when the text is not a URDF urdfdom can parse. frame_prefix is put in

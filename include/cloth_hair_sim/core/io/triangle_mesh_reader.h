@@ -1,0 +1,20 @@
+#pragma once
+#include <string>
+
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/mesh/triangle_mesh.h"
+
+namespace chs {
+
+// Reads a collider's surface through assimp (STL, OBJ, PLY, DAE, glTF, ...): all meshes of the
+// file, node transforms applied, polygons triangulated, positions multiplied component-wise by
+// scale (0.001 for a file in mm; URDF allows a scale per axis), and vertices with identical
+// coordinates merged, so that a surface stored per face corner (STL) or split into several
+// meshes by material becomes one connected surface. Unlike readQuadMesh this keeps triangles,
+// which is all a rigid collider needs. Throws InputError naming the file and the problem
+// (missing, unreadable, no triangles, non-positive or non-finite scale).
+TriangleMesh readTriangleMesh(const std::string& path,
+                              const Eigen::Vector3d& scale = Eigen::Vector3d::Ones());
+
+}  // namespace chs
