@@ -76,6 +76,19 @@ TEST(MeshIo, ObjAndPlyRoundTripKeepQuads) {
   fs::remove_all(dir);
 }
 
+// A triangle mesh takes one Catmull-Clark step: each n-gon becomes n quads (Han section 5.4).
+TEST(MeshIo, TrianglesBecomeQuads) {
+  const fs::path dir = tempDir();
+  writeText(dir / "two.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+  const QuadMesh m = readQuadMesh((dir / "two.obj").string());
+  std::cout << "  two triangles: " << m.numVertices() << " vertices, " << m.numQuads()
+            << " quads\n";
+  EXPECT_EQ(m.numQuads(), 6);
+  EXPECT_EQ(m.numVertices(), 4 + 5 + 2);  // corners, edge points, face points
+  for (const auto& v : m.vertices) EXPECT_NEAR(v.z(), 0.0, 1e-15);
+  fs::remove_all(dir);
+}
+
 TEST(MeshIo, BadFiles) {
   const fs::path dir = tempDir();
   expectInputError([&] { readQuadMesh((dir / "missing.obj").string()); },
@@ -85,12 +98,12 @@ TEST(MeshIo, BadFiles) {
   writeText(dir / "garbage.obj", "\x7f\x45\x4c\x46 binary junk \x01\x02\x03\n");
   expectInputError([&] { readQuadMesh((dir / "garbage.obj").string()); }, {"garbage.obj"});
   writeText(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  expectInputError([&] { readQuadMesh((dir / "tri.obj").string()); },
-                   {"tri.obj", "3 corners", "quads"});
+  writeText(dir / "line.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n");
+  expectInputError([&] { readQuadMesh((dir / "line.obj").string()); }, {"line.obj", "no faces"});
   writeText(dir / "flipped.obj",
             "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 1 2 5 4\nf 2 5 6 3\n");
   expectInputError([&] { readQuadMesh((dir / "flipped.obj").string()); },
-                   {"flipped.obj", "inverted"});
+                   {"flipped.obj", "orientation"});
   expectInputError([&] { readQuadMesh((dir / "tri.obj").string(), -1.0); }, {"scale"});
   fs::remove_all(dir);
 }

@@ -180,8 +180,7 @@ Eigen::Isometry3d poseFromMsg(const geometry_msgs::Pose& pose) {
 Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
                      const Eigen::Isometry3d& world_from_request_frame,
                      const std::map<std::string, Eigen::Isometry3d>& world_from_frames,
-                     const Eigen::Vector3d& gravity,
-                     const chs::ParticleDynamicsSettings& settings) {
+                     const SimParams& params) {
   if (req.name.empty()) throw InputError("a garment needs a name");
   Garment g;
   g.name = req.name;
@@ -191,7 +190,7 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
   for (auto& v : p.mesh.vertices) v = world_from_mesh * v;
   chs::checkMesh(p.mesh);
   p.material = garmentMaterial(req, g.material_name);
-  p.gravity = gravity;
+  p.gravity = params.gravity;
   for (int v : req.pinned) p.bc.pinned.push_back(v);
   for (const auto& f : req.fixed) {
     if (f.axes.empty())
@@ -224,14 +223,22 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
                               p.mesh.vertices, frame->second);
   }
   p.validate();
-  resetDynamics(g, settings);
+  resetDynamics(g, params);
   return g;
 }
 
-void resetDynamics(Garment& g, const chs::ParticleDynamicsSettings& settings) {
-  g.dynamics = std::make_unique<chs::ParticleDynamics>(g.reference, settings);
-  // stableTimeStep() bounds RK4's stability interval; keep a margin for contact stiffening.
-  g.stable_dt = 0.5 * g.dynamics->stableTimeStep();
+void resetDynamics(Garment& g, const SimParams& params) {
+  if (params.dynamics_backend == "mpm")
+    g.dynamics = std::make_unique<chs::HybridShellDynamics>(g.reference, params.mpm);
+  else
+    g.dynamics = std::make_unique<chs::ParticleDynamics>(g.reference, params.particle);
+}
+
+double stableSubstep(const Garment& g) {
+  // The particle network's bound is RK4's stability interval: keep a margin for contact
+  // stiffening. The hybrid shell applies its own safety factor.
+  const bool particle = dynamic_cast<const chs::ParticleDynamics*>(g.dynamics.get()) != nullptr;
+  return (particle ? 0.5 : 1.0) * g.dynamics->stableTimeStep();
 }
 
 }  // namespace chs_node

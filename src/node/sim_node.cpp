@@ -48,7 +48,6 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       params_(loadSimParams(private_nh)),
       tf_listener_(tf_buffer_),
       colliders_(tf_buffer_, params_.world_frame, params_.tf_timeout) {
-  dynamics_settings_.damping = params_.damping;
   pnh_.param("tf_delay", tf_delay_, tf_delay_);
   if (!(tf_delay_ >= 0.0) || !std::isfinite(tf_delay_))
     throw chs::InputError("parameter tf_delay must be >= 0 (s)");
@@ -96,7 +95,7 @@ void SimNode::refreshColliders() {
 
 double SimNode::substepLimit() const {
   double h = params_.dt;
-  for (const auto& [name, g] : garments_) h = std::min(h, g.stable_dt);
+  for (const auto& [name, g] : garments_) h = std::min(h, stableSubstep(g));
   return h;
 }
 
@@ -360,10 +359,18 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
     s.real_time_factor = last_.real_time_factor;
     s.garments = static_cast<int>(garments_.size());
     s.colliders = colliders_.activeCount();
+    s.dynamics_backend = params_.dynamics_backend;
     for (const auto& [name, g] : garments_) {
       s.vertices += g.dynamics->numVertices();
       s.kinetic_energy += g.dynamics->kineticEnergy();
-      for (const auto& x : g.dynamics->positions())
+      if (const auto* h = dynamic_cast<const chs::HybridShellDynamics*>(g.dynamics.get())) {
+        s.particles += h->numVertices() + h->numContactParticles();
+        s.quadrature_points += h->numQuadraturePoints();
+        s.grid_nodes += h->numGridNodes();
+      } else {
+        s.particles += g.dynamics->numVertices();
+      }
+      for (const auto& x : g.dynamics->displaySurface().vertices)
         for (const auto& c : g.dynamics->colliders())
           s.deepest_penetration = std::max(s.deepest_penetration, -c->project(x).gap);
     }
@@ -442,8 +449,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     }
   }
   try {
-    Garment g =
-        buildGarment(req, world_from_frame, attach_frames, params_.gravity, dynamics_settings_);
+    Garment g = buildGarment(req, world_from_frame, attach_frames, params_);
     std::lock_guard<std::mutex> lock(mutex_);
     if (garments_.count(req.name)) {
       res.message = who + "a garment of that name was loaded meanwhile";
@@ -494,7 +500,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
   std::vector<std::string> released;
   try {
     for (auto& [name, g] : garments_) {
-      resetDynamics(g, dynamics_settings_);
+      resetDynamics(g, params_);
       g.generation = next_generation_++;
       g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
       // A garment hanging from frames restarts where its first frame has carried it since load

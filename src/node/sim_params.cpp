@@ -13,6 +13,43 @@ void requirePositive(const std::string& name, double value) {
     throw chs::InputError("parameter ~" + name + " must be positive and finite");
 }
 
+// ~mpm/ parameters of the hybrid shell; the HybridShellDynamics constructor validates them
+// again when a garment loads, this names the parameter at startup.
+void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings& s) {
+  nh.param("grid_spacing", s.grid_spacing, s.grid_spacing);
+  nh.param("kernel_degree", s.kernel_degree, s.kernel_degree);
+  nh.param("cfl", s.cfl, s.cfl);
+  nh.param("rpic_damping", s.rpic_damping, s.rpic_damping);
+  nh.param("safety", s.safety, s.safety);
+  nh.param("quadrature_per_edge", s.kirchhoff_love.in_plane_order, s.kirchhoff_love.in_plane_order);
+  std::string rule = "gauss";
+  nh.param("thickness_rule", rule, rule);
+  if (rule == "gauss")
+    s.kirchhoff_love.thickness_rule = chs::ThicknessRule::kGauss;
+  else if (rule == "han")
+    s.kirchhoff_love.thickness_rule = chs::ThicknessRule::kHanQuarter;
+  else
+    throw chs::InputError("parameter ~mpm/thickness_rule '" + rule + "': use gauss or han");
+  double yield = 0.0;  // <= 0 here: purely elastic
+  nh.param("yield_stress", yield, yield);
+  if (!std::isfinite(yield)) throw chs::InputError("parameter ~mpm/yield_stress must be finite");
+  if (yield > 0.0) s.yield_stress = yield;
+  nh.param("contact_particles_per_edge", s.contact_particles_per_edge,
+           s.contact_particles_per_edge);
+  nh.param("contact_normal_stiffness", s.contact.normal_stiffness, s.contact.normal_stiffness);
+  nh.param("contact_shear_stiffness", s.contact.shear_stiffness, s.contact.shear_stiffness);
+  nh.param("self_friction", s.contact.friction, s.contact.friction);
+  nh.param("display_segments", s.display_segments, s.display_segments);
+  if (s.kernel_degree != 2 && s.kernel_degree != 3)
+    throw chs::InputError("parameter ~mpm/kernel_degree must be 2 or 3");
+  if (s.kirchhoff_love.in_plane_order < 1 || s.kirchhoff_love.in_plane_order > 4)
+    throw chs::InputError("parameter ~mpm/quadrature_per_edge must lie in 1..4");
+  if (!(s.cfl > 0.0 && s.safety > 0.0 && s.rpic_damping >= 0.0 && s.rpic_damping <= 1.0))
+    throw chs::InputError(
+        "parameters ~mpm/cfl and ~mpm/safety must be positive, "
+        "~mpm/rpic_damping in [0, 1]");
+}
+
 }  // namespace
 
 SimParams loadSimParams(const ros::NodeHandle& nh) {
@@ -37,9 +74,9 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   }
 
   if (p.world_frame.empty()) throw chs::InputError("parameter ~world_frame must not be empty");
-  if (p.dynamics_backend != "particle")
+  if (p.dynamics_backend != "particle" && p.dynamics_backend != "mpm")
     throw chs::InputError("parameter ~dynamics_backend '" + p.dynamics_backend +
-                          "' is unknown: the only backend so far is particle");
+                          "' is unknown: use mpm or particle");
   requirePositive("dt", p.dt);
   requirePositive("step_rate", p.step_rate);
   requirePositive("status_rate", p.status_rate);
@@ -52,6 +89,9 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
     throw chs::InputError("parameter ~damping must be >= 0");
   if (!(p.tf_timeout >= 0.0) || !std::isfinite(p.tf_timeout))
     throw chs::InputError("parameter ~tf_timeout must be >= 0");
+  p.particle.damping = p.damping;
+  loadHybridShellSettings(ros::NodeHandle(nh, "mpm"), p.mpm);
+  p.mpm.damping = p.damping;
   return p;
 }
 

@@ -64,6 +64,9 @@ class SimTime(unittest.TestCase):
         start = self.sim_time()
         self.assertIsNotNone(start, 'no ~status with the garment')
         self.tick(1.0)
+        # A status sent at the last tick may still be on its way (a loaded machine): let it
+        # arrive. With /clock standing no timer fires, so nothing newer can follow.
+        time.sleep(0.3)
         after_tick = self.sim_time()
         time.sleep(1.0)  # wall time passes, /clock stands still
         after_pause = self.sim_time()

@@ -11,6 +11,7 @@
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
 #include "cloth_hair_sim/node/grasp.h"
+#include "cloth_hair_sim/node/sim_params.h"
 
 namespace chs_node {
 
@@ -21,7 +22,7 @@ struct Garment {
   std::string material_name;
   chs::DrapeProblem reference;
   std::unique_ptr<chs::ClothDynamics> dynamics;
-  double stable_dt = 0.0;        // [s] substep the explicit integrator tolerates
+
   std::uint64_t generation = 0;  // set anew on load and reset: a finished drape checks it
   int colour = 0;
   // Pins attached to tf frames at load (also pinned in `reference`, where they were at load).
@@ -38,9 +39,14 @@ Eigen::Isometry3d poseFromMsg(const geometry_msgs::Pose& pose);
 Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
                      const Eigen::Isometry3d& world_from_request_frame,
                      const std::map<std::string, Eigen::Isometry3d>& world_from_frames,
-                     const Eigen::Vector3d& gravity, const chs::ParticleDynamicsSettings& settings);
+                     const SimParams& params);
 
-// A fresh dynamic state at the garment's reference (reset).
-void resetDynamics(Garment& garment, const chs::ParticleDynamicsSettings& settings);
+// A fresh dynamic state at the garment's reference (reset), with the backend the parameters
+// name. Throws chs::InputError when the backend refuses the garment.
+void resetDynamics(Garment& garment, const SimParams& params);
+
+// The largest substep the garment's dynamics tolerates now (explicit integrators; the hybrid
+// shell's also shrinks with speed through its CFL condition).
+double stableSubstep(const Garment& garment);
 
 }  // namespace chs_node

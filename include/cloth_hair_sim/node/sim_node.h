@@ -89,7 +89,6 @@ class SimNode {
 
   ros::NodeHandle nh_, pnh_;
   SimParams params_;
-  chs::ParticleDynamicsSettings dynamics_settings_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
 

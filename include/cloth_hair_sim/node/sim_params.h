@@ -4,12 +4,17 @@
 #include <ros/node_handle.h>
 #include <Eigen/Core>
 
+#include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_hair_sim/core/particle/particle_dynamics.h"
+
 namespace chs_node {
 
 // The node's parameters (private namespace, REP 103 units). Colliders are read separately.
 struct SimParams {
   std::string world_frame = "world";
-  std::string dynamics_backend = "particle";  // the only backend until the hybrid one lands
+  // mpm: the hybrid Lagrangian/MPM subdivision shell (Han ch. 5); particle: seed 000's
+  // particle network with RK4.
+  std::string dynamics_backend = "mpm";
   double dt = 1e-3;               // [s] largest substep (garments may need smaller: stable step)
   double step_rate = 100.0;       // [Hz] updates per second
   double real_time_factor = 1.0;  // simulated / wall (or /clock) seconds; 0: as fast as possible
@@ -18,9 +23,12 @@ struct SimParams {
   double marker_rate = 10.0;      // [Hz]
   bool show_colliders = true;     // collider markers in the "colliders" namespace
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  // [m/s^2] in the world frame
-  double damping = 0.5;      // [1/s] viscous damping of the particle dynamics
+  double damping = 0.5;      // [1/s] viscous damping of either backend
   double max_speed = 50.0;   // [m/s] a faster vertex counts as a diverged step
   double tf_timeout = 0.01;  // [s] wait for a collider's transform in each update
+  // Backend settings: ~damping goes to both; the hybrid shell's own under ~mpm/.
+  chs::ParticleDynamicsSettings particle;
+  chs::HybridShellSettings mpm;
 };
 
 // Reads ~ parameters over the defaults; throws chs::InputError naming a bad one.

@@ -11,17 +11,18 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 #include "cloth_hair_sim/core/mesh/mesh_weld.h"
+#include "cloth_hair_sim/core/subdiv/quad_conversion.h"
 
 namespace chs {
 
 namespace {
 
 void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, double scale,
-             const std::string& path, QuadMesh& out) {
+             const std::string& path, PolygonMesh& out) {
   const aiMatrix4x4 transform = parent * node.mTransformation;
   for (unsigned i = 0; i < node.mNumMeshes; ++i) {
     const aiMesh& mesh = *scene.mMeshes[node.mMeshes[i]];
-    const int base = out.numVertices();
+    const int base = static_cast<int>(out.vertices.size());
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
       const aiVector3D p = transform * mesh.mVertices[v];
       out.vertices.emplace_back(scale * p.x, scale * p.y, scale * p.z);
@@ -29,14 +30,10 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
       const aiFace& face = mesh.mFaces[f];
       if (face.mNumIndices < 3) continue;  // stray points and lines carry no cloth
-      if (face.mNumIndices != 4)
-        throw InputError(path + ": face " + std::to_string(f) + " of mesh '" + mesh.mName.C_Str() +
-                         "' has " + std::to_string(face.mNumIndices) +
-                         " corners; only quads are supported (the FEM shell is quad-based; "
-                         "remesh the garment with quads)");
-      out.quads.push_back(
-          {base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[1]),
-           base + static_cast<int>(face.mIndices[2]), base + static_cast<int>(face.mIndices[3])});
+      std::vector<int> corners;
+      for (unsigned k = 0; k < face.mNumIndices; ++k)
+        corners.push_back(base + static_cast<int>(face.mIndices[k]));
+      out.faces.push_back(std::move(corners));
     }
   }
   for (unsigned c = 0; c < node.mNumChildren; ++c)
@@ -55,19 +52,22 @@ QuadMesh readQuadMesh(const std::string& path, double scale) {
   const aiScene* scene = importer.ReadFile(path, 0);
   if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw InputError(path + ": cannot read mesh: " + importer.GetErrorString());
-  QuadMesh mesh;
-  collect(*scene, *scene->mRootNode, aiMatrix4x4(), scale, path, mesh);
-  if (mesh.quads.empty()) throw InputError(path + ": the file holds no quads");
+  PolygonMesh polygons;
+  collect(*scene, *scene->mRootNode, aiMatrix4x4(), scale, path, polygons);
+  if (polygons.faces.empty()) throw InputError(path + ": the file holds no faces");
   // Weld relative to the garment's size: exporters round positions to ~6-7 digits.
-  Eigen::Vector3d lo = mesh.vertices.front(), hi = lo;
-  for (const auto& p : mesh.vertices) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  weldVertices(mesh, 1e-7 * (hi - lo).norm());
+  Eigen::Vector3d lo = polygons.vertices.front(), hi = lo;
+  for (const auto& p : polygons.vertices) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  weldVertices(polygons, 1e-7 * (hi - lo).norm());
   try {
+    // Quads are kept as they are; any other polygon makes the whole mesh take one
+    // Catmull-Clark step (Han section 5.4), which gives quads with the same limit surface.
+    QuadMesh mesh = toQuadControlMesh(polygons);
     checkMesh(mesh);
+    return mesh;
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
   }
-  return mesh;
 }
 
 }  // namespace chs

@@ -154,6 +154,9 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
     display_stencils_.push_back(surface_->stencil(sp.face, sp.u, sp.v));
   display_triangles_ = t.triangles;
 
+  free_axes_.assign(nc, Vec3::Ones());
+  for (const auto& f : problem.bc.fixed_components) free_axes_[f.vertex][f.axis] = 0.0;
+  reference_ = x0;
   pinned_.assign(nc, 0);
   target_ = x0;
   pin_force_.assign(nc, Vec3::Zero());
@@ -264,6 +267,11 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
       continue;
     }
     pin_force_[p].setZero();
+    for (int a = 0; a < 3; ++a)
+      if (free_axes_[p][a] == 0.0) {
+        control_.x[p][a] = reference_[p][a];
+        control_.v[p][a] = 0.0;
+      }
     // The grid conditions act on nodes; a control point can still end a step inside an
     // obstacle by up to a cell. Put it back on the surface and take away its inward relative
     // velocity, as a collision impulse would.
@@ -315,7 +323,15 @@ void HybridShellDynamics::setPositions(const std::vector<Vec3>& x) {
     throw InputError("hybrid shell: " + std::to_string(x.size()) + " positions for " +
                      std::to_string(numVertices()) + " control points");
   control_.x = x;
-  for (int p = 0; p < contact_.size(); ++p) contact_.p.x[p] = contact_.stencil[p].position(x);
+  // A placed surface starts out of contact: its fibres are reset to the new normals (kept,
+  // a fibre of the old orientation would read a turned garment as sheared through itself).
+  for (int p = 0; p < contact_.size(); ++p) {
+    const SurfaceStencil& s = contact_.stencil[p];
+    Vec3 a1, a2;
+    tangents(s, x, a1, a2);
+    contact_.p.x[p] = s.position(x);
+    contact_.fibre[p] = a1.cross(a2).normalized();
+  }
 }
 
 void HybridShellDynamics::setVelocities(const std::vector<Vec3>& v) {

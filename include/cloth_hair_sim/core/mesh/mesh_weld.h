@@ -1,4 +1,5 @@
 #pragma once
+#include "cloth_hair_sim/core/mesh/polygon_mesh.h"
 #include "cloth_hair_sim/core/mesh/quad_mesh.h"
 
 namespace chs {
@@ -8,5 +9,6 @@ namespace chs {
 // solvers need one vertex per material point so that neighbouring quads are connected.
 // Quad corners are renumbered; their order (orientation) is kept.
 void weldVertices(QuadMesh& mesh, double tolerance);
+void weldVertices(PolygonMesh& mesh, double tolerance);
 
 }  // namespace chs

@@ -68,7 +68,8 @@ struct HybridStageTimes {
 class HybridShellDynamics : public ClothDynamics {
  public:
   // Uses the problem's mesh (reference state), material (E, nu, thickness, areal density),
-  // gravity, colliders and pinned/clamped vertices (held where they are). Throws InputError for
+  // gravity, colliders, pinned/clamped vertices (held where they are) and fixed components
+  // (held at their reference value). All act on the control points. Throws InputError for
   // a bad mesh, material or setting.
   explicit HybridShellDynamics(const DrapeProblem& problem,
                                const HybridShellSettings& settings = {});
@@ -82,6 +83,7 @@ class HybridShellDynamics : public ClothDynamics {
   int numVertices() const override { return static_cast<int>(control_.x.size()); }
   const std::vector<Eigen::Vector3d>& positions() const override { return control_.x; }
   const std::vector<Eigen::Vector3d>& velocities() const override { return control_.v; }
+  // Places the control points (pins keep their targets); the contact fibres restart unstressed.
   void setPositions(const std::vector<Eigen::Vector3d>& x) override;
   void setVelocities(const std::vector<Eigen::Vector3d>& v) override;
   const std::vector<double>& masses() const override { return control_.mass; }
@@ -162,6 +164,8 @@ class HybridShellDynamics : public ClothDynamics {
   RigidSurfaces surfaces_;
   std::vector<mpm::GridCollider> grid_colliders_;
 
+  std::vector<Eigen::Vector3d> free_axes_;  // 1 where an axis is free, 0 where bc fixes it
+  std::vector<Eigen::Vector3d> reference_;  // where fixed components are held
   std::vector<char> pinned_;
   std::vector<Eigen::Vector3d> target_;
   std::vector<Eigen::Vector3d> pin_force_;  // support force on each control point, last step

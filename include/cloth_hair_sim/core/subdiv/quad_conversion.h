@@ -3,16 +3,10 @@
 
 #include <Eigen/Core>
 
+#include "cloth_hair_sim/core/mesh/polygon_mesh.h"
 #include "cloth_hair_sim/core/mesh/quad_mesh.h"
 
 namespace chs {
-
-// A mesh of polygons (3 or more corners each, counter-clockwise seen from the normal side),
-// e.g. a triangulated garment panel.
-struct PolygonMesh {
-  std::vector<Eigen::Vector3d> vertices;
-  std::vector<std::vector<int>> faces;
-};
 
 // An all-quad control mesh with the same Catmull-Clark limit surface (Han section 5.4: "we may
 // assume that all input meshes have quadrilateral faces by replacing the control mesh with its
