@@ -160,6 +160,7 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
   pinned_.assign(nc, 0);
   target_ = x0;
   pin_force_.assign(nc, Vec3::Zero());
+  step_start_velocity_.assign(nc, Vec3::Zero());
   for (int v : problem.bc.clamped) pinned_[v] = 1;
   for (int v : problem.bc.pinned) pinned_[v] = 1;
   setColliders(problem.colliders);
@@ -170,7 +171,10 @@ void HybridShellDynamics::step(double dt) {
     throw InputError("hybrid shell: time step must be positive, got " + std::to_string(dt));
   // Pins carry their control points to the target at constant velocity over this step.
   for (int p = 0; p < numVertices(); ++p)
-    if (pinned_[p]) control_.v[p] = (target_[p] - control_.x[p]) / dt;
+    if (pinned_[p]) {
+      step_start_velocity_[p] = control_.v[p];
+      control_.v[p] = (target_[p] - control_.x[p]) / dt;
+    }
   {
     StageTimer t(times_.transfer_to_grid);
     transferToGrid();
@@ -196,9 +200,18 @@ void HybridShellDynamics::step(double dt) {
   ++times_.steps;
 }
 
-// Han (5.37)-(5.38): APIC transfer of control and contact particles onto one grid.
+// Han (5.37)-(5.38): APIC transfer of control and contact particles onto one grid. Pinned
+// control points are prescribed, not grid degrees of freedom (a Dirichlet condition): they give
+// the grid neither mass nor force, and act on the cloth through the shell energy alone. Handed
+// to the grid, their zero velocity would smear a clamp over a kernel width (a cantilever read
+// 4-10 % stiff) and hold their neighbours back.
 void HybridShellDynamics::transferToGrid() {
+  transfer_mass_ = control_.mass;
+  for (int p = 0; p < numVertices(); ++p)
+    if (pinned_[p]) transfer_mass_[p] = 0.0;
+  std::swap(control_.mass, transfer_mass_);  // the transfer reads the particles' mass field
   mpm::particleToGrid({&control_, &contact_.p}, grid_, settings_.kernel_degree);
+  std::swap(control_.mass, transfer_mass_);
 }
 
 // Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the Kirchhoff-Love forces on the control
@@ -224,7 +237,10 @@ void HybridShellDynamics::computeGridForces() {
   });
   for (const auto& f : local)
     for (int p = 0; p < nc; ++p) control_force_[p] += f[p];
-  mpm::scatterPointForces(grid_, control_.x, control_force_, settings_.kernel_degree);
+  grid_force_ = control_force_;
+  for (int p = 0; p < nc; ++p)
+    if (pinned_[p]) grid_force_[p].setZero();  // held by its pin instead (transferToGrid)
+  mpm::scatterPointForces(grid_, control_.x, grid_force_, settings_.kernel_degree);
   mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
                           settings_.kernel_degree);
 }
@@ -259,11 +275,14 @@ void HybridShellDynamics::transferToParticles(double dt) {
 void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
   for (int p = 0; p < numVertices(); ++p) {
     if (pinned_[p]) {
-      const Vec3 v_free = control_.v[p];
-      const Vec3 x_start = control_.x[p] - dt * v_free;
+      // Back to the pin's motion (G2P gave it the grid's velocity); the support supplies
+      // m a - f - m g with f the shell's force on the point at the start of the step.
+      const Vec3 x_start = control_.x[p] - dt * control_.v[p];
       control_.v[p] = (target_[p] - x_start) / dt;
       control_.x[p] = target_[p];
-      pin_force_[p] = control_.mass[p] * (control_.v[p] - v_free) / dt;
+      pin_force_[p] =
+          control_.mass[p] * ((control_.v[p] - step_start_velocity_[p]) / dt - gravity_) -
+          control_force_[p];
       continue;
     }
     pin_force_[p].setZero();
@@ -272,16 +291,28 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
         control_.x[p][a] = reference_[p][a];
         control_.v[p][a] = 0.0;
       }
-    // The grid conditions act on nodes; a control point can still end a step inside an
-    // obstacle by up to a cell. Put it back on the surface and take away its inward relative
-    // velocity, as a collision impulse would.
+    // The grid conditions act on nodes inside an obstacle only: a control point on the surface
+    // also draws on the free nodes above it, so it ends the step slightly inside and slid by
+    // the part of gravity those nodes did not resist. Resolve its contact as a collision
+    // impulse: the same Coulomb projection as the nodes get (grid_collider.h) on its relative
+    // velocity, the step redone with that velocity, then any remaining depth removed. Its
+    // APIC affine velocity goes too: it holds the free nodes' slide and would hand it back to
+    // the grid at the next transfer, so a patch below the friction onset would creep.
+    const Vec3 x_start = control_.x[p] - dt * control_.v[p];
     for (std::size_t c = 0; c < surfaces_.size(); ++c) {
       const SurfaceProjection pr = surfaces_[c]->project(control_.x[p]);
       if (pr.gap >= 0.0) continue;
-      control_.x[p] -= pr.gap * pr.normal;
-      const Vec3 vc = grid_colliders_[c].velocity.at(control_.x[p]);
-      const double vn = (control_.v[p] - vc).dot(pr.normal);
-      if (vn < 0.0) control_.v[p] -= vn * pr.normal;
+      const mpm::GridCollider& gc = grid_colliders_[c];
+      const Vec3 vc = gc.velocity.at(control_.x[p]);
+      const Vec3 v_rel = control_.v[p] - vc;
+      if (v_rel.dot(pr.normal) < 0.0) {
+        control_.v[p] =
+            vc + mpm::collideRelativeVelocity(v_rel, pr.normal, gc.boundary, gc.friction);
+        control_.C[p].setZero();
+        control_.x[p] = x_start + dt * control_.v[p];
+      }
+      const double gap = surfaces_[c]->project(control_.x[p]).gap;
+      if (gap < 0.0) control_.x[p] -= gap * pr.normal;
     }
   }
   tbb::parallel_for(0, contact_.size(), [&](int p) {

@@ -98,8 +98,9 @@ class HybridShellDynamics : public ClothDynamics {
   void pin(int vertex, const Eigen::Vector3d& target) override;
   void unpin(int vertex) override;
   bool isPinned(int vertex) const override { return pinned_.at(vertex) != 0; }
-  // The impulse the pins gave their control points in the last step, per unit time: it holds
-  // the prescribed motion, so accelerations are already in it (checked for size only).
+  // Support force on each held control point in the last step, m a - f - m g with f the
+  // shell's force on it: the prescribed acceleration is already in it (accelerations are
+  // checked for size only).
   std::vector<Eigen::Vector3d> holdingForces(
       const std::vector<int>& vertices,
       const std::vector<Eigen::Vector3d>& accelerations = {}) const override;
@@ -160,6 +161,8 @@ class HybridShellDynamics : public ClothDynamics {
   mpm::SparseGrid grid_;
   std::vector<Eigen::Vector3d> control_force_;  // -dPsi/dx_p on control points this step
   std::vector<Eigen::Vector3d> kl_gradient_;    // dPsi^KL/dx_p
+  std::vector<Eigen::Vector3d> grid_force_;     // control_force_ without the pinned points
+  std::vector<double> transfer_mass_;           // masses the grid sees (pinned: none)
 
   RigidSurfaces surfaces_;
   std::vector<mpm::GridCollider> grid_colliders_;
@@ -169,6 +172,7 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<char> pinned_;
   std::vector<Eigen::Vector3d> target_;
   std::vector<Eigen::Vector3d> pin_force_;  // support force on each control point, last step
+  std::vector<Eigen::Vector3d> step_start_velocity_;  // of pinned points, for their acceleration
 
   double time_ = 0.0;
   HybridStageTimes times_;
