@@ -195,7 +195,7 @@ void HybridShellDynamics::step(double dt) {
 
 // Han (5.37)-(5.38): APIC transfer of control and contact particles onto one grid.
 void HybridShellDynamics::transferToGrid() {
-  mpm::particleToGrid({&control_, &contact_.p}, grid_, settings_.kernel_degree);
+  mpm::particleToGrid({&control_, &contact_.p}, grid_, settings_.kernel_degree, &supports_);
 }
 
 // Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the Kirchhoff-Love forces on the control
@@ -221,9 +221,10 @@ void HybridShellDynamics::computeGridForces() {
   });
   for (const auto& f : local)
     for (int p = 0; p < nc; ++p) control_force_[p] += f[p];
-  mpm::scatterPointForces(grid_, control_.x, control_force_, settings_.kernel_degree);
+  mpm::scatterPointForces(grid_, control_.x, control_force_, settings_.kernel_degree,
+                          &supports_[0]);
   mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
-                          settings_.kernel_degree);
+                          settings_.kernel_degree, &supports_[1]);
 }
 
 // Han (5.40) with gravity, then the obstacles' boundary conditions (section 3.4). Viscous
@@ -247,8 +248,10 @@ void HybridShellDynamics::updateGridMomentum(double dt) {
 void HybridShellDynamics::transferToParticles(double dt) {
   for (auto* set : {&control_, &contact_.p})
     std::fill(set->F.begin(), set->F.end(), Eigen::Matrix3d::Identity());
-  mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt);
-  mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt);
+  mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt,
+                      &supports_[0]);
+  mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt,
+                      &supports_[1]);
 }
 
 // Pins, obstacles for the control points, (5.54) for the contact particles and the trial
