@@ -70,10 +70,15 @@ double meanEdgeLength(const QuadMesh& mesh) {
   return sum / n;
 }
 
-// Tangents a1, a2 of the surface at a stencil.
+// Tangents a1, a2 of the surface at a stencil, in one pass over its control points.
 void tangents(const SurfaceStencil& s, const std::vector<Vec3>& x, Vec3& a1, Vec3& a2) {
-  a1 = s.combine(s.du, x);
-  a2 = s.combine(s.dv, x);
+  a1.setZero();
+  a2.setZero();
+  for (int k = 0; k < s.size(); ++k) {
+    const Vec3& xk = x[s.points[k]];
+    a1 += s.du[k] * xk;
+    a2 += s.dv[k] * xk;
+  }
 }
 
 struct HybridSnapshot : DynamicsSnapshot {
