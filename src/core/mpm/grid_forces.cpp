@@ -12,17 +12,20 @@ namespace {
 // Adds contribution(particle, stencil, i, j, k) to the force of every node in each particle's
 // support.
 template <int D, class Contribution>
-void scatter(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x, Contribution&& contribution) {
+void scatter(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x, const SupportNodes* support,
+             Contribution&& contribution) {
   const int nn = grid.size(), n = ParticleStencil<D>::kSupport;
+  if (support) support->check(static_cast<int>(x.size()), D);
   tbb::enumerable_thread_specific<std::vector<Eigen::Vector3d>> local(
       [nn] { return std::vector<Eigen::Vector3d>(nn, Eigen::Vector3d::Zero()); });
   tbb::parallel_for(0, static_cast<int>(x.size()), [&](int p) {
     std::vector<Eigen::Vector3d>& f = local.local();
     const ParticleStencil<D> s(x[p], grid.spacing());
-    for (int i = 0; i < n; ++i)
+    const int* nodes = support ? support->of(p) : nullptr;
+    for (int i = 0, m = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
-        for (int k = 0; k < n; ++k) {
-          const int node = grid.find(s.base + Eigen::Vector3i(i, j, k));
+        for (int k = 0; k < n; ++k, ++m) {
+          const int node = nodes ? nodes[m] : grid.find(s.base + Eigen::Vector3i(i, j, k));
           if (node >= 0) f[node] += contribution(p, s, i, j, k);
         }
   });
@@ -39,29 +42,31 @@ void checkSizes(std::size_t a, std::size_t b, const char* what) {
 }  // namespace
 
 void scatterPointForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
-                        const std::vector<Eigen::Vector3d>& f, int degree) {
+                        const std::vector<Eigen::Vector3d>& f, int degree,
+                        const SupportNodes* support) {
   checkSizes(x.size(), f.size(), "forces");
   auto c = [&](int p, const auto& s, int i, int j, int k) -> Eigen::Vector3d {
     return s.weight(i, j, k) * f[p];
   };
   if (degree == 2)
-    scatter<2>(grid, x, c);
+    scatter<2>(grid, x, support, c);
   else
-    scatter<3>(grid, x, c);
+    scatter<3>(grid, x, support, c);
 }
 
 void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
                         const std::vector<Eigen::Vector3d>& fibres,
-                        const std::vector<Eigen::Vector3d>& t, int degree) {
+                        const std::vector<Eigen::Vector3d>& t, int degree,
+                        const SupportNodes* support) {
   checkSizes(x.size(), fibres.size(), "fibres");
   checkSizes(x.size(), t.size(), "fibre forces");
   auto c = [&](int p, const auto& s, int i, int j, int k) -> Eigen::Vector3d {
     return s.gradient(i, j, k).dot(fibres[p]) * t[p];
   };
   if (degree == 2)
-    scatter<2>(grid, x, c);
+    scatter<2>(grid, x, support, c);
   else
-    scatter<3>(grid, x, c);
+    scatter<3>(grid, x, support, c);
 }
 
 }  // namespace chs::mpm

@@ -70,10 +70,15 @@ double meanEdgeLength(const QuadMesh& mesh) {
   return sum / n;
 }
 
-// Tangents a1, a2 of the surface at a stencil.
+// Tangents a1, a2 of the surface at a stencil, in one pass over its control points.
 void tangents(const SurfaceStencil& s, const std::vector<Vec3>& x, Vec3& a1, Vec3& a2) {
-  a1 = s.combine(s.du, x);
-  a2 = s.combine(s.dv, x);
+  a1.setZero();
+  a2.setZero();
+  for (int k = 0; k < s.size(); ++k) {
+    const Vec3& xk = x[s.points[k]];
+    a1 += s.du[k] * xk;
+    a2 += s.dv[k] * xk;
+  }
 }
 
 struct HybridSnapshot : DynamicsSnapshot {
@@ -210,7 +215,7 @@ void HybridShellDynamics::transferToGrid() {
   for (int p = 0; p < numVertices(); ++p)
     if (pinned_[p]) transfer_mass_[p] = 0.0;
   std::swap(control_.mass, transfer_mass_);  // the transfer reads the particles' mass field
-  mpm::particleToGrid({&control_, &contact_.p}, grid_, settings_.kernel_degree);
+  mpm::particleToGrid({&control_, &contact_.p}, grid_, settings_.kernel_degree, &supports_);
   std::swap(control_.mass, transfer_mass_);
 }
 
@@ -240,9 +245,10 @@ void HybridShellDynamics::computeGridForces() {
   grid_force_ = control_force_;
   for (int p = 0; p < nc; ++p)
     if (pinned_[p]) grid_force_[p].setZero();  // held by its pin instead (transferToGrid)
-  mpm::scatterPointForces(grid_, control_.x, grid_force_, settings_.kernel_degree);
+  mpm::scatterPointForces(grid_, control_.x, grid_force_, settings_.kernel_degree,
+                          &supports_[0]);
   mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
-                          settings_.kernel_degree);
+                          settings_.kernel_degree, &supports_[1]);
 }
 
 // Han (5.40) with gravity, then the obstacles' boundary conditions (section 3.4). Viscous
@@ -266,8 +272,10 @@ void HybridShellDynamics::updateGridMomentum(double dt) {
 void HybridShellDynamics::transferToParticles(double dt) {
   for (auto* set : {&control_, &contact_.p})
     std::fill(set->F.begin(), set->F.end(), Eigen::Matrix3d::Identity());
-  mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt);
-  mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt);
+  mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt,
+                      &supports_[0]);
+  mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt,
+                      &supports_[1]);
 }
 
 // Pins, obstacles for the control points, (5.54) for the contact particles and the trial

@@ -1,6 +1,8 @@
 #include "cloth_hair_sim/core/mpm/transfers.h"
 
 #include <algorithm>
+#include <array>
+#include <string>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -12,32 +14,63 @@ namespace chs::mpm {
 
 namespace {
 
-// Calls f(node offset (i, j, k), node coordinate) over a particle's support.
+// Calls f(i, j, k, n) over a particle's support: node offset (i, j, k), n its position in the
+// support's node list (SupportNodes order).
 template <int D, class F>
-void forSupport(const ParticleStencil<D>& s, F&& f) {
+void forSupport(F&& f) {
   constexpr int n = ParticleStencil<D>::kSupport;
-  for (int i = 0; i < n; ++i)
+  for (int i = 0, node = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) f(i, j, k, Eigen::Vector3i(s.base + Eigen::Vector3i(i, j, k)));
+      for (int k = 0; k < n; ++k, ++node) f(i, j, k, node);
+}
+
+// x_i - x_p per axis for the support's nodes: (base + k) dx - x_p, as grid.position(node) - x_p.
+template <int D>
+std::array<std::array<double, ParticleStencil<D>::kSupport>, 3> nodeOffsets(
+    const ParticleStencil<D>& s, const Eigen::Vector3d& x, double dx) {
+  std::array<std::array<double, ParticleStencil<D>::kSupport>, 3> d;
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < ParticleStencil<D>::kSupport; ++k)
+      d[a][k] = static_cast<double>(s.base[a] + k) * dx - x[a];
+  return d;
+}
+
+// Activates every particle's support (serially: the hash is not thread safe) and records the
+// node indices. Consecutive particles in one cell (neighbours on the surface) share a support,
+// which is then copied instead of looked up.
+template <int D>
+void activateSupports(const std::vector<const Particles*>& sets, SparseGrid& grid,
+                      std::vector<SupportNodes>& supports) {
+  constexpr int kNodes = ParticleStencil<D>::kNodes;
+  supports.resize(sets.size());
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    const Particles& p = *sets[s];
+    SupportNodes& sn = supports[s];
+    sn.per_particle = kNodes;
+    sn.nodes.resize(static_cast<std::size_t>(kNodes) * p.size());
+    Eigen::Vector3i previous_base(0, 0, 0);
+    for (int q = 0; q < p.size(); ++q) {
+      Eigen::Vector3i base;
+      for (int a = 0; a < 3; ++a) base[a] = BSpline<D>::base(p.x[q][a] / grid.spacing());
+      int* nodes = sn.nodes.data() + static_cast<std::size_t>(kNodes) * q;
+      if (q > 0 && base == previous_base) {
+        std::copy(nodes - kNodes, nodes, nodes);
+        continue;
+      }
+      forSupport<D>([&](int i, int j, int k, int n) {
+        nodes[n] = grid.activate(base + Eigen::Vector3i(i, j, k));
+      });
+      previous_base = base;
+    }
+  }
 }
 
 template <int D>
-void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& grid) {
+void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& grid,
+                        std::vector<SupportNodes>& supports) {
   const double dx = grid.spacing();
   grid.clear();
-  // Node activation is serial (the hash map), then each particle's support is looked up once.
-  std::vector<std::vector<std::array<int, ParticleStencil<D>::kNodes>>> nodes(sets.size());
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    const Particles& p = *sets[s];
-    nodes[s].resize(p.size());
-    for (int q = 0; q < p.size(); ++q) {
-      const ParticleStencil<D> st(p.x[q], dx);
-      int n = 0;
-      forSupport(st, [&](int, int, int, const Eigen::Vector3i& c) {
-        nodes[s][q][n++] = grid.activate(c);
-      });
-    }
-  }
+  activateSupports<D>(sets, grid, supports);
   struct Accumulator {
     std::vector<double> m;
     std::vector<Eigen::Vector3d> mv;
@@ -52,13 +85,15 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
     tbb::parallel_for(0, p.size(), [&](int q) {
       Accumulator& acc = local.local();
       const ParticleStencil<D> st(p.x[q], dx);
-      int n = 0;
-      forSupport(st, [&](int i, int j, int k, const Eigen::Vector3i&) {
-        const int node = nodes[s][q][n++];
+      const auto d = nodeOffsets(st, p.x[q], dx);
+      const int* nodes = supports[s].of(q);
+      const double m = p.mass[q];
+      forSupport<D>([&](int i, int j, int k, int n) {
+        const int node = nodes[n];
         const double w = st.weight(i, j, k);
-        acc.m[node] += w * p.mass[q];  // (3.1)
+        acc.m[node] += w * m;  // (3.1)
         acc.mv[node] +=
-            w * p.mass[q] * (p.v[q] + p.C[q] * (grid.position(node) - p.x[q]));  // (3.2)
+            w * m * (p.v[q] + p.C[q] * Eigen::Vector3d(d[0][i], d[1][j], d[2][k]));  // (3.2)
       });
     });
   }
@@ -73,20 +108,23 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
 }
 
 template <int D>
-void gridToParticleImpl(const SparseGrid& grid, Particles& p, double nu, double dt) {
+void gridToParticleImpl(const SparseGrid& grid, Particles& p, double nu, double dt,
+                        const SupportNodes* support) {
   const double dx = grid.spacing(), d_inv = ParticleStencil<D>::inverseInertia(dx);
   tbb::parallel_for(0, p.size(), [&](int q) {
     const ParticleStencil<D> s(p.x[q], dx);
+    const auto d = nodeOffsets(s, p.x[q], dx);
+    const int* nodes = support ? support->of(q) : nullptr;
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
     Eigen::Matrix3d B = Eigen::Matrix3d::Zero(), gradv = Eigen::Matrix3d::Zero();
-    forSupport(s, [&](int i, int j, int k, const Eigen::Vector3i& c) {
-      const int node = grid.find(c);
+    forSupport<D>([&](int i, int j, int k, int n) {
+      const int node = nodes ? nodes[n] : grid.find(s.base + Eigen::Vector3i(i, j, k));
       if (node < 0) return;  // outside the transferred region: zero velocity
       const double w = s.weight(i, j, k);
       const Eigen::Vector3d& vi = grid.velocity[node];
-      v += w * vi;                                               // (3.13)
-      B += w * vi * (grid.position(node) - p.x[q]).transpose();  // (3.14)
-      gradv += vi * s.gradient(i, j, k).transpose();             // (3.17)
+      v += w * vi;                                                  // (3.13)
+      B += w * vi * Eigen::RowVector3d(d[0][i], d[1][j], d[2][k]);  // (3.14)
+      gradv += vi * s.gradient(i, j, k).transpose();                // (3.17)
     });
     const Eigen::Matrix3d Ct = d_inv * B;
     p.C[q] = (1.0 - nu) * Ct + 0.5 * nu * (Ct - Ct.transpose());  // (3.15)
@@ -107,12 +145,15 @@ void particleToGrid(const Particles& particles, SparseGrid& grid, int degree) {
   particleToGrid(std::vector<const Particles*>{&particles}, grid, degree);
 }
 
-void particleToGrid(const std::vector<const Particles*>& sets, SparseGrid& grid, int degree) {
+void particleToGrid(const std::vector<const Particles*>& sets, SparseGrid& grid, int degree,
+                    std::vector<SupportNodes>* supports) {
   checkDegree(degree);
+  std::vector<SupportNodes> scratch;
+  std::vector<SupportNodes>& s = supports ? *supports : scratch;
   if (degree == 2)
-    particleToGridImpl<2>(sets, grid);
+    particleToGridImpl<2>(sets, grid, s);
   else
-    particleToGridImpl<3>(sets, grid);
+    particleToGridImpl<3>(sets, grid, s);
 }
 
 void updateGridVelocity(SparseGrid& grid, const Eigen::Vector3d& gravity, double dt) {
@@ -124,14 +165,15 @@ void updateGridVelocity(SparseGrid& grid, const Eigen::Vector3d& gravity, double
 }
 
 void gridToParticle(const SparseGrid& grid, Particles& particles, int degree, double rpic_damping,
-                    double dt) {
+                    double dt, const SupportNodes* support) {
   checkDegree(degree);
   if (!(rpic_damping >= 0.0 && rpic_damping <= 1.0))
     throw InputError("RPIC damping must lie in [0, 1]");
+  if (support) support->check(particles.size(), degree);
   if (degree == 2)
-    gridToParticleImpl<2>(grid, particles, rpic_damping, dt);
+    gridToParticleImpl<2>(grid, particles, rpic_damping, dt, support);
   else
-    gridToParticleImpl<3>(grid, particles, rpic_damping, dt);
+    gridToParticleImpl<3>(grid, particles, rpic_damping, dt, support);
 }
 
 double cflTimeStep(const Particles& particles, double dx, double cfl, double dt_max) {

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <string>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
@@ -34,22 +33,62 @@ LaminaQR laminaQR(const Eigen::Matrix3d& F, const Eigen::Matrix3d& frame) {
   return qr;
 }
 
-// Hencky stress tau = 2 mu eps + lambda tr(eps) I of a symmetric positive 2x2 stretch tensor B
-// (eps = 1/2 log B), returned with eps for the energy.
-struct HenckyStress {
-  Eigen::Matrix2d eigenvectors;
-  Eigen::Vector2d eigenvalues, log_stretch, principal_stress;
+// Closed-form spectral calculus of a symmetric positive definite 2x2 tensor B (C_hat or r r^T):
+// eigenvalues l1 >= l2 and functions f(B) = mean(f) I + f[l1, l2] (B - m I) with m = tr B / 2 and
+// the divided difference f[l1, l2] = (f(l1) - f(l2)) / (l1 - l2), which has the eigenvalues and
+// eigenvectors of f applied to B. The divided differences are written through
+// r = (l1 - l2) / l2 so that they stay exact as B becomes isotropic (r -> 0), where an unstretched
+// cloth lives; no eigenvectors (no angle, no iterative solver) are needed.
+struct Spectrum2 {
+  double l1, l2;      // eigenvalues, l1 >= l2
+  double d, b;        // B - m I = [[d, b], [b, -d]]
+  double log1, log2;  // log l1, log l2
+  double log_ratio;   // log(1 + r) / r, the divided difference log[l1, l2] times l2
 };
 
-HenckyStress henckyStress(const Eigen::Matrix2d& B, double mu, double lambda) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(B);
-  HenckyStress h;
-  h.eigenvectors = eig.eigenvectors();
-  h.eigenvalues = eig.eigenvalues();
-  h.log_stretch = 0.5 * h.eigenvalues.array().log();
-  const double trace = h.log_stretch.sum();
-  h.principal_stress = 2.0 * mu * h.log_stretch + Eigen::Vector2d::Constant(lambda * trace);
-  return h;
+Spectrum2 spectrum(const Eigen::Matrix2d& B) {
+  Spectrum2 s;
+  const double m = 0.5 * (B(0, 0) + B(1, 1));
+  s.d = 0.5 * (B(0, 0) - B(1, 1));
+  s.b = 0.5 * (B(0, 1) + B(1, 0));
+  const double half_gap = std::hypot(s.d, s.b);
+  s.l1 = m + half_gap;
+  s.l2 = (B(0, 0) * B(1, 1) - s.b * s.b) / s.l1;  // det / l1: no cancellation in m - half_gap
+  s.log1 = std::log(s.l1);
+  s.log2 = std::log(s.l2);
+  const double r = 2.0 * half_gap / s.l2;
+  // Taylor series of log(1 + r) / r below 1e-4: its truncation error r^4 / 5 is below 2e-17.
+  s.log_ratio = r < 1e-4 ? 1.0 - r * (0.5 - r * (1.0 / 3.0 - 0.25 * r)) : std::log1p(r) / r;
+  return s;
+}
+
+// mean I + slope (B - m I) as a matrix.
+Eigen::Matrix2d spectralFunction(const Spectrum2& s, double mean, double slope) {
+  Eigen::Matrix2d f;
+  f << mean + slope * s.d, slope * s.b, slope * s.b, mean - slope * s.d;
+  return f;
+}
+
+// psi of Han (5.11) in the principal Hencky strains eps_i = 1/2 log l_i.
+double henckyEnergy(const Spectrum2& s, double mu, double lambda) {
+  const double e1 = 0.5 * s.log1, e2 = 0.5 * s.log2, trace = e1 + e2;
+  return mu * (e1 * e1 + e2 * e2) + 0.5 * lambda * trace * trace;
+}
+
+// 2 dpsi/dC_hat = C_hat^{-1} (2 mu eps + lambda tr eps I) = g(C_hat) with
+// g(l) = mu log(l) / l + K / l, K = lambda tr eps. (log l / l)[l1, l2] = (log[l1, l2] - log l2 /
+// l2) / l1 and (1 / l)[l1, l2] = -1 / (l1 l2).
+Eigen::Matrix2d henckySecondPiola(const Spectrum2& s, double mu, double lambda) {
+  const double K = 0.5 * lambda * (s.log1 + s.log2);
+  const double g1 = (mu * s.log1 + K) / s.l1, g2 = (mu * s.log2 + K) / s.l2;
+  const double slope = (mu * (s.log_ratio - s.log2) - K) / (s.l1 * s.l2);
+  return spectralFunction(s, 0.5 * (g1 + g2), slope);
+}
+
+// Hencky stress tau = 2 mu eps + lambda tr(eps) I = mu log B + K I of a stretch tensor B.
+Eigen::Matrix2d henckyKirchhoff(const Spectrum2& s, double mu, double lambda) {
+  const double K = 0.5 * lambda * (s.log1 + s.log2);
+  return spectralFunction(s, 0.5 * mu * (s.log1 + s.log2) + K, mu * s.log_ratio / s.l2);
 }
 
 // Closed-form SVD of a 2x2 matrix, M = U diag(sigma) V^T with U, V rotations (Blinn, "Consider
@@ -98,21 +137,20 @@ double HenckyLamina::bendingStiffness(double thickness) const {
 
 double HenckyLamina::energyDensity(const Eigen::Matrix3d& F, const Eigen::Matrix3d& frame) const {
   const Eigen::Matrix<double, 3, 2> lamina = F * frame.leftCols<2>();
-  const HenckyStress h = henckyStress(lamina.transpose() * lamina, mu_, lambda_);
-  const double trace = h.log_stretch.sum();
-  return mu_ * h.log_stretch.squaredNorm() + 0.5 * lambda_ * trace * trace;  // Han (5.11)
+  return henckyEnergy(spectrum(lamina.transpose() * lamina), mu_, lambda_);  // Han (5.11)
+}
+
+HenckyLamina::LaminaResponse HenckyLamina::laminaResponse(const Eigen::Matrix2d& C_hat) const {
+  const Spectrum2 s = spectrum(C_hat);
+  return {henckyEnergy(s, mu_, lambda_), henckySecondPiola(s, mu_, lambda_)};
 }
 
 Eigen::Matrix3d HenckyLamina::firstPiolaStress(const Eigen::Matrix3d& F,
                                                const Eigen::Matrix3d& frame) const {
   const Eigen::Matrix<double, 3, 2> E_hat = frame.leftCols<2>();
   const Eigen::Matrix<double, 3, 2> lamina = F * E_hat;
-  const HenckyStress h = henckyStress(lamina.transpose() * lamina, mu_, lambda_);
-  // psi depends on F only through C_hat = E^T F^T F E, so P = F E (2 dpsi/dC_hat) E^T and, C_hat
-  // and eps^R being coaxial, 2 dpsi/dC_hat = C_hat^{-1} (2 mu eps^R + lambda tr eps^R I).
-  const Eigen::Matrix2d S = h.eigenvectors *
-                            h.principal_stress.cwiseQuotient(h.eigenvalues).asDiagonal() *
-                            h.eigenvectors.transpose();
+  // psi depends on F only through C_hat = E^T F^T F E, so P = F E (2 dpsi/dC_hat) E^T.
+  const Eigen::Matrix2d S = henckySecondPiola(spectrum(lamina.transpose() * lamina), mu_, lambda_);
   return lamina * S * E_hat.transpose();
 }
 
@@ -120,9 +158,8 @@ Eigen::Matrix3d HenckyLamina::kirchhoffStress(const Eigen::Matrix3d& F,
                                               const Eigen::Matrix3d& frame) const {
   const LaminaQR qr = laminaQR(F, frame);
   const Eigen::Matrix2d r_hat = qr.r.topLeftCorner<2, 2>();
-  const HenckyStress h = henckyStress(r_hat * r_hat.transpose(), mu_, lambda_);  // eps^L
   const Eigen::Matrix2d tau_hat =
-      h.eigenvectors * h.principal_stress.asDiagonal() * h.eigenvectors.transpose();  // (5.12)
+      henckyKirchhoff(spectrum(r_hat * r_hat.transpose()), mu_, lambda_);  // (5.12), eps^L
   const Eigen::Matrix<double, 3, 2> q_hat = qr.q.leftCols<2>();
   return q_hat * tau_hat * q_hat.transpose();
 }

@@ -8,7 +8,6 @@
 #include <Eigen/LU>
 
 #include "cloth_hair_sim/core/common/input_error.h"
-#include "cloth_hair_sim/core/shell/midsurface_frame.h"
 
 namespace chs {
 namespace {
@@ -32,15 +31,16 @@ void checkStencil(const SurfaceStencil& s, int face, const Eigen::Vector2d& uv, 
 
 }  // namespace
 
-KirchhoffLovePoint::KirchhoffLovePoint(SurfaceStencil stencil, int face,
+KirchhoffLovePoint::KirchhoffLovePoint(std::shared_ptr<const SurfaceStencil> stencil, int face,
                                        const Eigen::Vector2d& parameter, double xi3, double weight,
                                        const std::vector<Eigen::Vector3d>& reference_positions)
     : stencil_(std::move(stencil)), face_(face), parameter_(parameter), xi3_(xi3) {
-  checkStencil(stencil_, face, parameter, reference_positions.size());
+  if (!stencil_) throw InputError("KirchhoffLovePoint: no stencil at " + where(face, parameter));
+  checkStencil(*stencil_, face, parameter, reference_positions.size());
   if (!std::isfinite(weight) || weight <= 0.0 || !std::isfinite(xi3))
     throw InputError("KirchhoffLovePoint: quadrature weight must be positive at " +
                      where(face, parameter));
-  const MidSurfaceFrame ref = MidSurfaceFrame::evaluate(stencil_, reference_positions);
+  const MidSurfaceFrame ref = MidSurfaceFrame::evaluate(*stencil_, reference_positions);
   if (!(ref.area_ratio > 1e-12 * ref.a[0].norm() * ref.a[1].norm()))
     throw InputError("KirchhoffLovePoint: degenerate reference surface (a_1 x a_2 = 0) at " +
                      where(face, parameter));
@@ -56,11 +56,22 @@ KirchhoffLovePoint::KirchhoffLovePoint(SurfaceStencil stencil, int face,
   frame_.col(0) = ref.a[0].normalized();
   frame_.col(2) = ref.a3;
   frame_.col(1) = ref.a3.cross(frame_.col(0));
+  updateElasticLaminaMap();
+}
+
+void KirchhoffLovePoint::setPlasticDeformation(const Eigen::Matrix3d& plastic) {
+  plastic_ = plastic;
+  plastic_inverse_ = plastic.inverse();
+  updateElasticLaminaMap();
+}
+
+void KirchhoffLovePoint::updateElasticLaminaMap() {
+  elastic_lamina_map_ = contravariant_ * plastic_inverse_ * frame_.leftCols<2>();
 }
 
 Eigen::Matrix3d KirchhoffLovePoint::deformationGradient(
     const std::vector<Eigen::Vector3d>& x) const {
-  return MidSurfaceFrame::evaluate(stencil_, x).laminaBasis(xi3_) * contravariant_;
+  return MidSurfaceFrame::evaluate(*stencil_, x).laminaBasis(xi3_) * contravariant_;
 }
 
 Eigen::Matrix3d KirchhoffLovePoint::trialElasticDeformation(
@@ -70,20 +81,28 @@ Eigen::Matrix3d KirchhoffLovePoint::trialElasticDeformation(
 
 double KirchhoffLovePoint::energy(const HenckyLamina& material,
                                   const std::vector<Eigen::Vector3d>& x) const {
-  return volume_ * material.energyDensity(trialElasticDeformation(x), frame_);
+  return energy(material, MidSurfaceFrame::evaluate(*stencil_, x));
+}
+
+double KirchhoffLovePoint::energy(const HenckyLamina& material, const MidSurfaceFrame& current,
+                                  Eigen::Matrix3d* dpsi_dg) const {
+  const Eigen::Matrix3d g = current.laminaBasis(xi3_);
+  const Eigen::Matrix<double, 3, 2> lamina = g * elastic_lamina_map_;  // F^{KL,E,tr} e_alpha
+  const HenckyLamina::LaminaResponse r = material.laminaResponse(lamina.transpose() * lamina);
+  // dPsi/dF^KL = V P(F^{KL,E,tr}) F^{KL,P,-T} (5.36) with P = F^{KL,E,tr} E S E^T, and F^KL =
+  // G g-bar^i, so dPsi/dG = V (lamina S) (elastic lamina map)^T.
+  if (dpsi_dg) *dpsi_dg = volume_ * (lamina * r.second_piola) * elastic_lamina_map_.transpose();
+  return volume_ * r.energy_density;
 }
 
 double KirchhoffLovePoint::energyAndGradient(const HenckyLamina& material,
                                              const std::vector<Eigen::Vector3d>& x,
                                              std::vector<Eigen::Vector3d>& dpsi_dx) const {
-  const MidSurfaceFrame cur = MidSurfaceFrame::evaluate(stencil_, x);
-  const Eigen::Matrix3d F_elastic = cur.laminaBasis(xi3_) * contravariant_ * plastic_inverse_;
-  // dPsi/dF^KL = V P(F^{KL,E,tr}) F^{KL,P,-T} (5.36); F^KL = G g-bar^i gives dPsi/dG = .
-  // g-bar^{-T}.
-  const Eigen::Matrix3d dpsi_dg = volume_ * material.firstPiolaStress(F_elastic, frame_) *
-                                  plastic_inverse_.transpose() * contravariant_.transpose();
-  cur.pullBack(stencil_, xi3_, dpsi_dg, dpsi_dx);
-  return volume_ * material.energyDensity(F_elastic, frame_);
+  const MidSurfaceFrame cur = MidSurfaceFrame::evaluate(*stencil_, x);
+  Eigen::Matrix3d dpsi_dg;
+  const double e = energy(material, cur, &dpsi_dg);
+  cur.pullBack(*stencil_, xi3_, dpsi_dg, dpsi_dx);
+  return e;
 }
 
 bool KirchhoffLovePoint::updatePlasticity(const HenckyLamina& material,
@@ -92,8 +111,7 @@ bool KirchhoffLovePoint::updatePlasticity(const HenckyLamina& material,
   const Eigen::Matrix3d F = deformationGradient(x);
   const HenckyLamina::DentingReturn ret = material.returnMapping(F * plastic_inverse_, frame_);
   if (!ret.yielded) return false;
-  plastic_ = ret.elastic_deformation.inverse() * F;
-  plastic_inverse_ = plastic_.inverse();
+  setPlasticDeformation(ret.elastic_deformation.inverse() * F);
   return true;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -10,6 +11,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/shell/midsurface_frame.h"
 
 namespace chs {
 
@@ -59,13 +61,34 @@ std::vector<KirchhoffLovePoint> buildKirchhoffLovePoints(
   for (int f = 0; f < num_faces; ++f)
     for (std::size_t i = 0; i < uv.size(); ++i)
       for (std::size_t j = 0; j < uv.size(); ++j) {
-        const SurfaceStencil stencil = stencil_at(f, uv[i], uv[j]);
+        // One stencil object per fibre: its points share the mid-surface evaluation.
+        const auto stencil = std::make_shared<const SurfaceStencil>(stencil_at(f, uv[i], uv[j]));
         for (double z : xi3)
           points.emplace_back(stencil, f, Eigen::Vector2d(uv[i], uv[j]), z,
                               w[i] * w[j] * 0.5 * thickness, reference_positions);
       }
   return points;
 }
+
+namespace {
+
+// Calls fibre(first, last) for each run [first, last) of points on one fibre (sharing a stencil)
+// whose first point lies in [begin, end): a blocked range may cut a fibre, which then belongs to
+// the range that holds its first point.
+template <class Fibre>
+void forFibres(const std::vector<KirchhoffLovePoint>& points, int begin, int end, Fibre&& fibre) {
+  const int n = static_cast<int>(points.size());
+  int first = begin;
+  while (first < end && first > 0 && points[first].sharesFibreWith(points[first - 1])) ++first;
+  while (first < end) {
+    int last = first + 1;
+    while (last < n && points[last].sharesFibreWith(points[first])) ++last;
+    fibre(first, last);
+    first = last;
+  }
+}
+
+}  // namespace
 
 double kirchhoffLoveEnergy(const std::vector<KirchhoffLovePoint>& points,
                            const HenckyLamina& material, const std::vector<Eigen::Vector3d>& x,
@@ -75,26 +98,38 @@ double kirchhoffLoveEnergy(const std::vector<KirchhoffLovePoint>& points,
     return tbb::parallel_reduce(
         tbb::blocked_range<int>(0, n), 0.0,
         [&](const tbb::blocked_range<int>& r, double e) {
-          for (int q = r.begin(); q < r.end(); ++q) e += points[q].energy(material, x);
+          forFibres(points, r.begin(), r.end(), [&](int first, int last) {
+            const MidSurfaceFrame frame = MidSurfaceFrame::evaluate(points[first].stencil(), x);
+            for (int q = first; q < last; ++q) e += points[q].energy(material, frame);
+          });
           return e;
         },
         std::plus<double>());
   // Threads scatter into private gradients that are summed afterwards: no races.
   struct Local {
     double energy = 0.0;
-    std::vector<Eigen::Vector3d> gradient, point;
+    std::vector<Eigen::Vector3d> gradient;
   };
   const std::size_t nx = x.size();
   tbb::enumerable_thread_specific<Local> local([nx] {
-    return Local{0.0, std::vector<Eigen::Vector3d>(nx, Eigen::Vector3d::Zero()), {}};
+    return Local{0.0, std::vector<Eigen::Vector3d>(nx, Eigen::Vector3d::Zero())};
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, n), [&](const tbb::blocked_range<int>& r) {
     Local& l = local.local();
-    for (int i = r.begin(); i < r.end(); ++i) {
-      const KirchhoffLovePoint& q = points[i];
-      l.energy += q.energyAndGradient(material, x, l.point);
-      for (int k = 0; k < q.stencil().size(); ++k) l.gradient[q.stencil().points[k]] += l.point[k];
-    }
+    forFibres(points, r.begin(), r.end(), [&](int first, int last) {
+      // One mid-surface frame and one pull-back per fibre: the pull-back is linear in the
+      // adjoints dPsi/dg_i of its points, so they are summed first.
+      const SurfaceStencil& stencil = points[first].stencil();
+      const MidSurfaceFrame frame = MidSurfaceFrame::evaluate(stencil, x);
+      Eigen::Matrix3d dpsi_da = Eigen::Matrix3d::Zero(), dpsi_dg;
+      Eigen::Matrix<double, 3, 2> dpsi_da3d = Eigen::Matrix<double, 3, 2>::Zero();
+      for (int q = first; q < last; ++q) {
+        l.energy += points[q].energy(material, frame, &dpsi_dg);
+        dpsi_da += dpsi_dg;  // g_alpha = a_alpha + xi3 a_{3,alpha}, g_3 = a_3
+        dpsi_da3d += points[q].xi3() * dpsi_dg.leftCols<2>();
+      }
+      frame.addPullBack(stencil, dpsi_da, dpsi_da3d, l.gradient);
+    });
   });
   gradient->assign(nx, Eigen::Vector3d::Zero());
   double energy = 0.0;

@@ -5,11 +5,52 @@
 namespace chs {
 namespace {
 
-// d(a_1 x a_2)/d xi_alpha = a_{1,alpha} x a_2 + a_1 x a_{2,alpha}, Han (A.1).
-Eigen::Vector3d normalDerivative(const MidSurfaceFrame& f, int alpha) {
-  const Eigen::Vector3d& a1_alpha = f.a_uv[alpha];      // a_{1,1} or a_{1,2}
-  const Eigen::Vector3d& a2_alpha = f.a_uv[alpha + 1];  // a_{2,1} or a_{2,2}
-  return a1_alpha.cross(f.a[1]) + f.a[0].cross(a2_alpha);
+// dPsi/d of the five stencil sums a_1, a_2, a_{1,1}, a_{1,2}, a_{2,2}: dPsi/dx_k is their
+// combination with the stencil's du, dv, duu, duv, dvv weights.
+using StencilAdjoint = std::array<Eigen::Vector3d, 5>;
+
+// Adjoints accumulated from a_3 and a_{3,alpha} back to a_alpha, a_{alpha,beta}, given dPsi/da_i
+// (columns of dpsi_da) and dPsi/da_{3,alpha} (columns of dpsi_da3d).
+StencilAdjoint stencilAdjoint(const MidSurfaceFrame& f, const Eigen::Matrix3d& dpsi_da,
+                              const Eigen::Matrix<double, 3, 2>& dpsi_da3d) {
+  const Eigen::Vector3d& a3 = f.a3;
+  Eigen::Vector3d adj_a1 = dpsi_da.col(0), adj_a2 = dpsi_da.col(1), adj_a3 = dpsi_da.col(2);
+  double adj_J = 0.0;
+  std::array<Eigen::Vector3d, 2> adj_m;  // of n_{,alpha}
+  const double J = f.area_ratio;
+  for (int alpha = 0; alpha < 2; ++alpha) {
+    // a_{3,alpha} = a~ - a_3 (a_3 . a~), a~ = n_{,alpha} / J.
+    const Eigen::Vector3d adj_a3d = dpsi_da3d.col(alpha);
+    const Eigen::Vector3d a_tilde = f.normal_d[alpha] / J;
+    const Eigen::Vector3d adj_a_tilde = adj_a3d - a3 * a3.dot(adj_a3d);
+    adj_a3 -= a3.dot(a_tilde) * adj_a3d + a3.dot(adj_a3d) * a_tilde;
+    adj_m[alpha] = adj_a_tilde / J;
+    adj_J -= a_tilde.dot(adj_a_tilde) / J;
+  }
+  // a_3 = n / J, J = |n|.
+  adj_J -= a3.dot(adj_a3) / J;
+  const Eigen::Vector3d adj_n = adj_a3 / J + adj_J * a3;
+  // n = a_1 x a_2; n_{,alpha} = a_{1,alpha} x a_2 + a_1 x a_{2,alpha}.
+  StencilAdjoint adj;
+  adj[0] = adj_a1 + f.a[1].cross(adj_n);
+  adj[1] = adj_a2 + adj_n.cross(f.a[0]);
+  adj[2].setZero();
+  adj[3].setZero();
+  adj[4].setZero();
+  for (int alpha = 0; alpha < 2; ++alpha) {
+    const Eigen::Vector3d& a1_alpha = f.a_uv[alpha];
+    const Eigen::Vector3d& a2_alpha = f.a_uv[alpha + 1];
+    adj[2 + alpha] += f.a[1].cross(adj_m[alpha]);
+    adj[1] += adj_m[alpha].cross(a1_alpha);
+    adj[0] += a2_alpha.cross(adj_m[alpha]);
+    adj[3 + alpha] += adj_m[alpha].cross(f.a[0]);
+  }
+  return adj;
+}
+
+Eigen::Vector3d stencilGradient(const SurfaceStencil& s, int k, const StencilAdjoint& adj) {
+  return s.du[k] * adj[0] + s.dv[k] * adj[1] + s.duu[k] * adj[2] + s.duv[k] * adj[3] +
+         s.dvv[k] * adj[4];
 }
 
 }  // namespace
@@ -17,16 +58,25 @@ Eigen::Vector3d normalDerivative(const MidSurfaceFrame& f, int alpha) {
 MidSurfaceFrame MidSurfaceFrame::evaluate(const SurfaceStencil& stencil,
                                           const std::vector<Eigen::Vector3d>& x) {
   MidSurfaceFrame f;
-  f.a[0] = stencil.combine(stencil.du, x);
-  f.a[1] = stencil.combine(stencil.dv, x);
-  f.a_uv[0] = stencil.combine(stencil.duu, x);
-  f.a_uv[1] = stencil.combine(stencil.duv, x);
-  f.a_uv[2] = stencil.combine(stencil.dvv, x);
-  f.normal = f.a[0].cross(f.a[1]);
+  // One pass over the stencil for all five sums.
+  Eigen::Vector3d a1 = Eigen::Vector3d::Zero(), a2 = a1, a11 = a1, a12 = a1, a22 = a1;
+  for (int k = 0; k < stencil.size(); ++k) {
+    const Eigen::Vector3d& xk = x[stencil.points[k]];
+    a1 += stencil.du[k] * xk;
+    a2 += stencil.dv[k] * xk;
+    a11 += stencil.duu[k] * xk;
+    a12 += stencil.duv[k] * xk;
+    a22 += stencil.dvv[k] * xk;
+  }
+  f.a = {a1, a2};
+  f.a_uv = {a11, a12, a22};
+  f.normal = a1.cross(a2);
   f.area_ratio = f.normal.norm();
   f.a3 = f.normal / f.area_ratio;
   for (int alpha = 0; alpha < 2; ++alpha) {
-    const Eigen::Vector3d a_tilde = normalDerivative(f, alpha) / f.area_ratio;
+    // d(a_1 x a_2)/d xi_alpha = a_{1,alpha} x a_2 + a_1 x a_{2,alpha}, Han (A.1).
+    f.normal_d[alpha] = f.a_uv[alpha].cross(a2) + a1.cross(f.a_uv[alpha + 1]);
+    const Eigen::Vector3d a_tilde = f.normal_d[alpha] / f.area_ratio;
     f.a3_d[alpha] = a_tilde - f.a3 * f.a3.dot(a_tilde);  // projection keeps a_3 unit
   }
   return f;
@@ -43,43 +93,17 @@ Eigen::Matrix3d MidSurfaceFrame::laminaBasis(double xi3) const {
 void MidSurfaceFrame::pullBack(const SurfaceStencil& stencil, double xi3,
                                const Eigen::Matrix3d& dpsi_dg,
                                std::vector<Eigen::Vector3d>& dpsi_dx) const {
-  // Adjoints (dPsi/d of each intermediate), accumulated from g_i back to a_alpha, a_{alpha,beta}.
-  std::array<Eigen::Vector3d, 2> adj_a = {dpsi_dg.col(0), dpsi_dg.col(1)};
-  std::array<Eigen::Vector3d, 3> adj_a_uv;
-  for (auto& v : adj_a_uv) v.setZero();
-  Eigen::Vector3d adj_a3 = dpsi_dg.col(2);
-  double adj_J = 0.0;
-  std::array<Eigen::Vector3d, 2> adj_m;  // of n_{,alpha}
-  const double J = area_ratio;
-  for (int alpha = 0; alpha < 2; ++alpha) {
-    // a_{3,alpha} = a~ - a_3 (a_3 . a~), a~ = n_{,alpha} / J.
-    const Eigen::Vector3d adj_a3d = xi3 * dpsi_dg.col(alpha);
-    const Eigen::Vector3d m = normalDerivative(*this, alpha);
-    const Eigen::Vector3d a_tilde = m / J;
-    const Eigen::Vector3d adj_a_tilde = adj_a3d - a3 * a3.dot(adj_a3d);
-    adj_a3 -= a3.dot(a_tilde) * adj_a3d + a3.dot(adj_a3d) * a_tilde;
-    adj_m[alpha] = adj_a_tilde / J;
-    adj_J -= a_tilde.dot(adj_a_tilde) / J;
-  }
-  // a_3 = n / J, J = |n|.
-  adj_J -= a3.dot(adj_a3) / J;
-  const Eigen::Vector3d adj_n = adj_a3 / J + adj_J * a3;
-  // n = a_1 x a_2; n_{,alpha} = a_{1,alpha} x a_2 + a_1 x a_{2,alpha}.
-  adj_a[0] += a[1].cross(adj_n);
-  adj_a[1] += adj_n.cross(a[0]);
-  for (int alpha = 0; alpha < 2; ++alpha) {
-    const Eigen::Vector3d& a1_alpha = a_uv[alpha];
-    const Eigen::Vector3d& a2_alpha = a_uv[alpha + 1];
-    adj_a_uv[alpha] += a[1].cross(adj_m[alpha]);
-    adj_a[1] += adj_m[alpha].cross(a1_alpha);
-    adj_a[0] += a2_alpha.cross(adj_m[alpha]);
-    adj_a_uv[alpha + 1] += adj_m[alpha].cross(a[0]);
-  }
+  const StencilAdjoint adj = stencilAdjoint(*this, dpsi_dg, xi3 * dpsi_dg.leftCols<2>());
   dpsi_dx.resize(stencil.size());
+  for (int k = 0; k < stencil.size(); ++k) dpsi_dx[k] = stencilGradient(stencil, k, adj);
+}
+
+void MidSurfaceFrame::addPullBack(const SurfaceStencil& stencil, const Eigen::Matrix3d& dpsi_da,
+                                  const Eigen::Matrix<double, 3, 2>& dpsi_da3d,
+                                  std::vector<Eigen::Vector3d>& gradient) const {
+  const StencilAdjoint adj = stencilAdjoint(*this, dpsi_da, dpsi_da3d);
   for (int k = 0; k < stencil.size(); ++k)
-    dpsi_dx[k] = stencil.du[k] * adj_a[0] + stencil.dv[k] * adj_a[1] +
-                 stencil.duu[k] * adj_a_uv[0] + stencil.duv[k] * adj_a_uv[1] +
-                 stencil.dvv[k] * adj_a_uv[2];
+    gradient[stencil.points[k]] += stencilGradient(stencil, k, adj);
 }
 
 }  // namespace chs

@@ -4,23 +4,27 @@
 #include <Eigen/Core>
 
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
+#include "cloth_hair_sim/core/mpm/support_nodes.h"
 
 namespace chs::mpm {
 
 // Internal forces onto the grid (Han section 5.5.2), accumulated into grid.force = -dPsi/dx_i.
 // The nodes must be active (particle-to-grid from the same positions activates them); `degree`
-// is the B-spline degree, 2 or 3. Threads sum into private arrays: no races.
+// is the B-spline degree, 2 or 3. With `support` (recorded by that particle-to-grid transfer)
+// the nodes are indexed directly instead of looked up. Threads sum into private arrays: no races.
 
 // Han (5.48): forces f_p on points whose motion is interpolated from the grid, (5.45)
 // x_p = sum_i x_i w_ip, reach node i as w_ip f_p (the subdivision control points).
 void scatterPointForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& positions,
-                        const std::vector<Eigen::Vector3d>& forces, int degree);
+                        const std::vector<Eigen::Vector3d>& forces, int degree,
+                        const SupportNodes* support = nullptr);
 
 // Han (5.49), second term: a material fibre a^tr = (sum_i x_i (x) grad w_ip) a^n (5.44) that the
 // grid motion stretches. With t_p = -V_p dchi/da (the force conjugate to the fibre), node i
 // receives (grad w_ip . a^n_p) t_p.
 void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& positions,
                         const std::vector<Eigen::Vector3d>& fibres,
-                        const std::vector<Eigen::Vector3d>& fibre_forces, int degree);
+                        const std::vector<Eigen::Vector3d>& fibre_forces, int degree,
+                        const SupportNodes* support = nullptr);
 
 }  // namespace chs::mpm

@@ -10,6 +10,7 @@
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 #include "cloth_hair_sim/core/mpm/mpm_particles.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
+#include "cloth_hair_sim/core/mpm/support_nodes.h"
 #include "cloth_hair_sim/core/shell/contact_potential.h"
 #include "cloth_hair_sim/core/shell/hencky_lamina.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
@@ -159,6 +160,7 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<std::array<int, 3>> display_triangles_;
 
   mpm::SparseGrid grid_;
+  std::vector<mpm::SupportNodes> supports_;     // of control_ and contact_.p, from transferToGrid
   std::vector<Eigen::Vector3d> control_force_;  // -dPsi/dx_p on control points this step
   std::vector<Eigen::Vector3d> kl_gradient_;    // dPsi^KL/dx_p
   std::vector<Eigen::Vector3d> grid_force_;     // control_force_ without the pinned points

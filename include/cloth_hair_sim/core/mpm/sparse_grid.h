@@ -1,6 +1,5 @@
 #pragma once
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -9,6 +8,8 @@ namespace chs::mpm {
 
 // Background grid that stores nodes only where particles are: a hash from integer node
 // coordinates to dense node arrays, rebuilt (activate) each step. Node i sits at i dx.
+// The hash is open addressing with linear probing in a power-of-two table kept between steps
+// (clear() empties it without freeing), so a step's lookups allocate nothing.
 class SparseGrid {
  public:
   explicit SparseGrid(double dx);
@@ -29,8 +30,13 @@ class SparseGrid {
 
  private:
   static std::uint64_t key(const Eigen::Vector3i& c);
+  std::size_t slot(std::uint64_t key) const;  // home slot of a key in the table
+  void grow();
+
   double dx_;
-  std::unordered_map<std::uint64_t, int> index_;
+  std::vector<std::uint64_t> keys_;  // kEmpty or a node key
+  std::vector<int> values_;          // node index of the key in the same slot
+  int shift_ = 64;                   // 64 - log2(table size)
   std::vector<Eigen::Vector3i> coord_;
 };
 

@@ -43,6 +43,15 @@ class HenckyLamina {
   // on the lamina block: exact for any F. For Kirchhoff-Love F (F e_3 the unit normal of the
   // deformed lamina) it equals tau F^{-T}.
   Eigen::Matrix3d firstPiolaStress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& frame) const;
+  // The lamina's response to its stretch tensor C_hat = E^T F^T F E (2x2, E = frame's first two
+  // columns): psi and the second Piola-Kirchhoff stress S = 2 dpsi/dC_hat = C_hat^{-1} (2 mu
+  // eps^R + lambda tr eps^R), so that P = F E S E^T. One closed-form spectral decomposition
+  // gives both (the Kirchhoff-Love forces need both at every quadrature point).
+  struct LaminaResponse {
+    double energy_density;
+    Eigen::Matrix2d second_piola;
+  };
+  LaminaResponse laminaResponse(const Eigen::Matrix2d& C_hat) const;
   // Kirchhoff stress (5.12)/(A.2): tau = tau_ab q_a (x) q_b, tau_ab = 2 mu eps^L_ab + lambda
   // eps^L_gg delta_ab, from the QR decomposition F e_j = r_ij q_i and eps^L = 1/2 log(r r^T).
   Eigen::Matrix3d kirchhoffStress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& frame) const;

@@ -13,10 +13,11 @@ namespace chs {
 // and its derivatives a_{3,alpha} = (I - a_3 a_3) (a_{1,alpha} x a_2 + a_1 x a_{2,alpha}) / |.|.
 // The lamina basis at height xi3 is g_alpha = a_alpha + xi3 a_{3,alpha}, g_3 = a_3.
 struct MidSurfaceFrame {
-  std::array<Eigen::Vector3d, 2> a;     // a_1, a_2
-  std::array<Eigen::Vector3d, 3> a_uv;  // a_{1,1}, a_{1,2} = a_{2,1}, a_{2,2}
-  Eigen::Vector3d normal;               // a_1 x a_2 (unnormalised)
-  double area_ratio = 0.0;              // |a_1 x a_2|
+  std::array<Eigen::Vector3d, 2> a;         // a_1, a_2
+  std::array<Eigen::Vector3d, 3> a_uv;      // a_{1,1}, a_{1,2} = a_{2,1}, a_{2,2}
+  Eigen::Vector3d normal;                   // a_1 x a_2 (unnormalised)
+  std::array<Eigen::Vector3d, 2> normal_d;  // (a_1 x a_2)_{,alpha}, Han (A.1)
+  double area_ratio = 0.0;                  // |a_1 x a_2|
   Eigen::Vector3d a3;
   std::array<Eigen::Vector3d, 2> a3_d;  // a_{3,alpha}
 
@@ -31,6 +32,14 @@ struct MidSurfaceFrame {
   // Exact, including the second derivatives that enter through a_{3,alpha}.
   void pullBack(const SurfaceStencil& stencil, double xi3, const Eigen::Matrix3d& dpsi_dg,
                 std::vector<Eigen::Vector3d>& dpsi_dx) const;
+
+  // The same for lamina points at several heights of this fibre at once, summed (the chain rule
+  // is linear in the adjoints): columns of dpsi_da are dPsi/da_1, dPsi/da_2, dPsi/da_3 (the sums
+  // of dPsi/dg_i over the heights), columns of dpsi_da3d are dPsi/da_{3,alpha} (the sums of
+  // xi3 dPsi/dg_alpha). Adds dPsi/dx_k to gradient[stencil.points[k]].
+  void addPullBack(const SurfaceStencil& stencil, const Eigen::Matrix3d& dpsi_da,
+                   const Eigen::Matrix<double, 3, 2>& dpsi_da3d,
+                   std::vector<Eigen::Vector3d>& gradient) const;
 };
 
 }  // namespace chs

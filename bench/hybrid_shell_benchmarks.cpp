@@ -1,0 +1,108 @@
+// Hybrid shell benchmarks (run by hand, never by ctest): the cost of one explicit step of
+// HybridShellDynamics on a square sheet of n x n quads lying on a sphere, split into the stages
+// of stageTimes(), and the Kirchhoff-Love energy gradient alone (the shell forces' core).
+//
+// Arguments: {quads per side, TBB threads}. Counters are per step: stage times in ms and the cost
+// per particle / per Kirchhoff-Love point in ns of wall time. The step size is the stable one at
+// the start, so every iteration does the same work a drape would.
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/mesh/grid_generators.h"
+#include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
+#include "cloth_hair_sim/core/subdiv/limit_surface.h"
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+constexpr double kSphereRadius = 0.3;
+
+// A 1 m x 1 m cotton-like sheet of n x n quads, horizontal, just above a sphere's top.
+chs::DrapeProblem sheetOverSphere(int n) {
+  chs::DrapeProblem p;
+  p.mesh = chs::makeRectangleMesh(1.0, 1.0, n, n);
+  for (auto& x : p.mesh.vertices) x.z() = kSphereRadius + 2e-3;
+  p.material.young = 2e5;
+  p.material.poisson = 0.3;
+  p.material.thickness = 5e-4;
+  p.material.areal_density = 0.2;
+  p.colliders.push_back(std::make_shared<chs::SphereSurface>(Vec3::Zero(), kSphereRadius));
+  return p;
+}
+
+// Milliseconds per step of one stage over the timed steps.
+double perStep(double before, double after, int steps) {
+  return 1e3 * (after - before) / steps;
+}
+
+void hybridStep(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, state.range(1));
+  chs::HybridShellDynamics d(sheetOverSphere(n));
+  const double dt = d.stableTimeStep();
+  for (int i = 0; i < 20; ++i) d.step(dt);  // the sheet settles onto the sphere
+  const chs::HybridStageTimes t0 = d.stageTimes();
+  for (auto _ : state) d.step(dt);
+  const chs::HybridStageTimes t1 = d.stageTimes();
+  const int steps = t1.steps - t0.steps;
+  const int particles = d.numVertices() + d.numContactParticles();
+  state.counters["quads"] = n * n;
+  state.counters["particles"] = particles;
+  state.counters["kl_points"] = d.numQuadraturePoints();
+  state.counters["grid_nodes"] = d.numGridNodes();
+  state.counters["p2g_ms"] = perStep(t0.transfer_to_grid, t1.transfer_to_grid, steps);
+  state.counters["forces_ms"] = perStep(t0.shell_forces, t1.shell_forces, steps);
+  state.counters["grid_ms"] = perStep(t0.grid_update, t1.grid_update, steps);
+  state.counters["g2p_ms"] = perStep(t0.transfer_to_particles, t1.transfer_to_particles, steps);
+  state.counters["plast_ms"] = perStep(t0.plasticity, t1.plasticity, steps);
+  state.counters["p2g_ns_per_particle"] =
+      1e6 * perStep(t0.transfer_to_grid, t1.transfer_to_grid, steps) / particles;
+  state.counters["g2p_ns_per_particle"] =
+      1e6 * perStep(t0.transfer_to_particles, t1.transfer_to_particles, steps) / particles;
+  state.counters["forces_ns_per_kl_point"] =
+      1e6 * perStep(t0.shell_forces, t1.shell_forces, steps) / d.numQuadraturePoints();
+  state.counters["dt_us"] = 1e6 * dt;
+}
+BENCHMARK(hybridStep)
+    ->ArgsProduct({{32, 90}, {1, 2}})
+    ->ArgNames({"quads", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// kirchhoffLoveEnergy with its gradient over all quadrature points of a bent n x n sheet.
+void kirchhoffLoveGradient(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, state.range(1));
+  const chs::QuadMesh mesh = chs::makeRectangleMesh(1.0, 1.0, n, n);
+  const chs::LimitSurface surface(mesh);
+  const auto points = chs::buildKirchhoffLovePoints(
+      surface.numFaces(), [&](int f, double u, double v) { return surface.stencil(f, u, v); },
+      mesh.vertices, 5e-4);
+  std::vector<Vec3> x;
+  for (const Vec3& X : mesh.vertices)  // stretched and bent over a cylinder
+    x.push_back(Vec3(1.02 * std::sin(X.x()), X.y(), 1.02 * std::cos(X.x())));
+  const chs::HenckyLamina lamina(2e5, 0.3);
+  std::vector<Vec3> gradient;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(chs::kirchhoffLoveEnergy(points, lamina, x, &gradient));
+  state.counters["kl_points"] = static_cast<double>(points.size());
+  state.counters["ns_per_kl_point"] = benchmark::Counter(
+      static_cast<double>(points.size()),
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(kirchhoffLoveGradient)
+    ->ArgsProduct({{32, 90}, {1, 2}})
+    ->ArgNames({"quads", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
