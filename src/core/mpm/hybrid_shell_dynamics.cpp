@@ -303,7 +303,10 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
     // also draws on the free nodes above it, so it ends the step slightly inside and slid by
     // the part of gravity those nodes did not resist. Resolve its contact as a collision
     // impulse: the same Coulomb projection as the nodes get (grid_collider.h) on its relative
-    // velocity, the step redone with that velocity, then any remaining depth removed. Its
+    // velocity, the step redone with that velocity, then the remaining depth removed, by at
+    // most a tenth of a cell per step: a garment loaded into an obstacle, or a limb swung
+    // into it faster than the grid could stop it, is pushed out over a few steps instead of
+    // being torn by a jump of the whole depth. Its
     // APIC affine velocity goes too: it holds the free nodes' slide and would hand it back to
     // the grid at the next transfer, so a patch below the friction onset would creep.
     const Vec3 x_start = control_.x[p] - dt * control_.v[p];
@@ -320,7 +323,7 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
         control_.x[p] = x_start + dt * control_.v[p];
       }
       const double gap = surfaces_[c]->project(control_.x[p]).gap;
-      if (gap < 0.0) control_.x[p] -= gap * pr.normal;
+      if (gap < 0.0) control_.x[p] += std::min(-gap, 0.1 * dx_) * pr.normal;
     }
   }
   tbb::parallel_for(0, contact_.size(), [&](int p) {
