@@ -1,16 +1,18 @@
 #!/usr/bin/env python3
 """Writes garments/skirt.obj: a flared skirt for urdf/mannequin.urdf, a quad mesh in the world
 frame of the demo (pelvis frame at z = 0.96 m). The waistband ring (the first `AROUND` vertices)
-is an ellipse 2.5 cm clear of the torso box at z = 1.08 m; the hem ring, 0.5 m lower, flares to
-semi-axes 0.28 x 0.32 m so the skirt clears the thighs. Quads run counter-clockwise seen from
-outside, so their normals point out. Usage: scripts/make_skirt.py [out.obj]"""
+is an ellipse 1 cm clear of the torso box at z = 1.08 m; the hem ring, 0.46 m lower, flares
+front to back (semi-axes 0.30 x 0.17 m): the hanging arms leave only 2 cm between torso and
+forearm, so the skirt widens sideways just enough to pass the thighs inside the hands. Quads run
+counter-clockwise seen from outside, so their normals point out.
+Usage: scripts/make_skirt.py [out.obj]"""
 import math
 import sys
 
 AROUND, DOWN = 24, 8
-WAIST_Z, HEM_Z = 1.08, 0.58
-WAIST = (0.12, 0.17)  # semi-axes along x and y [m]
-HEM = (0.28, 0.32)
+WAIST_Z, HEM_Z = 1.08, 0.62
+WAIST = (0.12, 0.155)  # semi-axes along x and y [m]
+HEM = (0.30, 0.17)
 
 
 def main(path):
