@@ -41,13 +41,17 @@ clean:
 	rm -rf $(BUILD) $(DEMO_OUT)
 
 # Benchmarks, run by hand (never by ctest): builds bench/*.cpp and writes the results to
-# $(BENCH_OUT)/<name>.json and .txt. BENCH_ARGS passes Google Benchmark flags, e.g.
-# BENCH_ARGS=--benchmark_filter=Tablecloth.
+# $(BENCH_OUT)/<name>.json and .txt (Google Benchmark) or .txt (the table-printing CLIs).
+# BENCH_ARGS passes Google Benchmark flags, e.g. BENCH_ARGS=--benchmark_filter=Tablecloth.
+# The CLIs take their defaults (short runs); see docs/BENCHMARKS.md for longer ones.
 BENCH_OUT ?= $(BUILD)/bench_results
+GBENCH = drape_benchmarks hybrid_shell_benchmarks
+CLIBENCH = cloth_vs_bullet curtain_benchmark
 .PHONY: bench
 bench:
 	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
-	cmake --build $(BUILD) -j$(JOBS) --target drape_benchmarks
+	cmake --build $(BUILD) -j$(JOBS) --target $(GBENCH) $(CLIBENCH)
 	mkdir -p $(BENCH_OUT)
-	$(BIN)/drape_benchmarks --benchmark_out=$(BENCH_OUT)/drape_benchmarks.json \
-	  --benchmark_out_format=json $(BENCH_ARGS) | tee $(BENCH_OUT)/drape_benchmarks.txt
+	for b in $(GBENCH); do $(BIN)/$$b --benchmark_out=$(BENCH_OUT)/$$b.json \
+	  --benchmark_out_format=json $(BENCH_ARGS) | tee $(BENCH_OUT)/$$b.txt; done
+	for b in $(CLIBENCH); do $(BIN)/$$b | tee $(BENCH_OUT)/$$b.txt; done

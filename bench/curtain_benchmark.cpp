@@ -129,14 +129,13 @@ void printTiming(const char* name, const Timing& t, int threads) {
       name, t.frames, threads, per_frame, per_frame * threads, t.cpu / t.frames,
       static_cast<double>(t.steps) / t.frames, 1e3 * t.wall / t.steps, t.simulated / t.wall);
   const chs::HybridStageTimes& s = t.stages;
-  const double staged = s.kinematics + s.transfer_to_grid + s.shell_forces + s.grid_update +
-                        s.transfer_to_particles + s.plasticity;
+  const double staged =
+      s.transfer_to_grid + s.shell_forces + s.grid_update + s.transfer_to_particles + s.plasticity;
   auto row = [&](const char* stage, double seconds) {
     std::printf("| %s | %.3f | %.1f %% |\n", stage, 1e3 * seconds / s.steps,
                 100.0 * seconds / t.wall);
   };
   std::printf("\n| stage of step() | wall ms per step | share of wall |\n|---|---|---|\n");
-  row("surface kinematics", s.kinematics);
   row("transfer to grid (5.37-5.38)", s.transfer_to_grid);
   row("shell and contact forces (5.46-5.49)", s.shell_forces);
   row("grid momentum and obstacles (5.40)", s.grid_update);

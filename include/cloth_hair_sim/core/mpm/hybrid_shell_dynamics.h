@@ -50,8 +50,8 @@ struct HybridShellSettings {
 
 // Wall time spent in each stage of step(), summed since construction [s].
 struct HybridStageTimes {
-  double kinematics = 0.0, transfer_to_grid = 0.0, shell_forces = 0.0, grid_update = 0.0,
-         transfer_to_particles = 0.0, plasticity = 0.0;
+  double transfer_to_grid = 0.0, shell_forces = 0.0, grid_update = 0.0, transfer_to_particles = 0.0,
+         plasticity = 0.0;
   int steps = 0;
 };
 
@@ -63,7 +63,7 @@ struct HybridStageTimes {
 // (the fibre contact potential). The ClothDynamics vertices are the control points.
 //
 // Explicit (symplectic Euler) steps, each the fixed sequence of Han section 5.5:
-//   surface kinematics -> transfer to grid (5.37-5.38) -> grid forces (5.46-5.49)
+//   transfer to grid (5.37-5.38) -> grid forces (5.46-5.49)
 //   -> grid momentum (5.40) and obstacle conditions -> transfer to particles (5.50-5.52)
 //   -> positions and trial elastic state (5.53-5.54, 5.44) -> plasticity (5.5.5).
 class HybridShellDynamics : public ClothDynamics {
@@ -129,7 +129,6 @@ class HybridShellDynamics : public ClothDynamics {
 
  private:
   // The stages of step(), Han section 5.5.
-  void updateSurfaceKinematics();
   void transferToGrid();
   void computeGridForces();
   void updateGridMomentum(double dt);
