@@ -352,7 +352,6 @@ std::size_t twistTube(double turns, double shortening, int n, int m) {
   p.bc.pinned = bottom;
   HybridShellSettings s;
   s.damping = 5.0;
-  if (std::getenv("CHS_TUBE_DX")) s.grid_spacing = std::atof(std::getenv("CHS_TUBE_DX"));
   HybridShellDynamics d(p, s);
   const std::vector<Vec3> x0 = d.positions();
   std::size_t worst = 0;

@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/dynamics/holding_wrench.h"
 #include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
-#include "cloth_hair_sim/core/dynamics/holding_wrench.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
 
 namespace chs {

@@ -58,6 +58,12 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
     throw InputError("hybrid shell: collider friction must be >= 0 and finite");
   if (s.display_segments < 1 || s.display_segments > 16)
     throw InputError("hybrid shell: display segments per face edge must lie in 1..16");
+  if (problem.mesh.numVertices() > s.max_control_points)
+    throw InputError("hybrid shell: the garment has " +
+                     std::to_string(problem.mesh.numVertices()) +
+                     " control points, more than the limit of " +
+                     std::to_string(s.max_control_points) +
+                     " (HybridShellSettings::max_control_points); coarsen the mesh");
   return problem;
 }
 
@@ -245,8 +251,7 @@ void HybridShellDynamics::computeGridForces() {
   grid_force_ = control_force_;
   for (int p = 0; p < nc; ++p)
     if (pinned_[p]) grid_force_[p].setZero();  // held by its pin instead (transferToGrid)
-  mpm::scatterPointForces(grid_, control_.x, grid_force_, settings_.kernel_degree,
-                          &supports_[0]);
+  mpm::scatterPointForces(grid_, control_.x, grid_force_, settings_.kernel_degree, &supports_[0]);
   mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
                           settings_.kernel_degree, &supports_[1]);
 }

@@ -46,6 +46,9 @@ struct HybridShellSettings {
   mpm::ColliderBoundary boundary = mpm::ColliderBoundary::kSeparating;
   double friction = 0.0;
   int display_segments = 3;  // limit-surface tessellation per face edge for displaySurface()
+  // Larger garments are refused at construction: each control point brings ~20 quadrature
+  // points and ~1 kB of stencils, and an explicit step of 8K points already takes ~0.1 s.
+  int max_control_points = 100000;
 };
 
 // Wall time spent in each stage of step(), summed since construction [s].
