@@ -90,7 +90,8 @@ void ParticleDynamics::setVelocities(const std::vector<Vec3>& v) {
 }
 
 void ParticleDynamics::pin(int vertex) {
-  pin(vertex, x_.at(vertex));
+  checkVertex(vertex);
+  pin(vertex, x_[vertex]);
 }
 
 void ParticleDynamics::pin(int vertex, const Vec3& target) {
