@@ -10,6 +10,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "cloth_hair_sim/SimStatus.h"
+#include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/scene.h"
 #include "cloth_hair_sim/node/markers.h"
@@ -370,9 +371,11 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
       } else {
         s.particles += g.dynamics->numVertices();
       }
-      for (const auto& x : g.dynamics->displaySurface().vertices)
-        for (const auto& c : g.dynamics->colliders())
-          s.deepest_penetration = std::max(s.deepest_penetration, -c->project(x).gap);
+      // Positions are finite here: a diverged substep is rolled back before it is kept.
+      s.deepest_penetration = std::max(
+          s.deepest_penetration,
+          chs::deepestPenetration(g.dynamics->displaySurface().vertices, g.dynamics->colliders())
+              .depth);
     }
     s.rollbacks = rollbacks_;
     s.transforms_ok = transforms_ok_;

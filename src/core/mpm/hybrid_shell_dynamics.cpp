@@ -8,6 +8,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
@@ -485,10 +486,7 @@ void HybridShellDynamics::restore(const DynamicsSnapshot& snapshot) {
 }
 
 std::vector<Vec3> HybridShellDynamics::surfacePoints() const {
-  std::vector<Vec3> x(display_stencils_.size());
-  tbb::parallel_for(0, static_cast<int>(x.size()),
-                    [&](int i) { x[i] = display_stencils_[i].position(control_.x); });
-  return x;
+  return evaluate(display_stencils_, control_.x);
 }
 
 DisplaySurface HybridShellDynamics::displaySurface() const {
@@ -530,10 +528,7 @@ double HybridShellDynamics::elasticEnergy() const {
 }
 
 double HybridShellDynamics::deepestPenetration() const {
-  double depth = 0.0;
-  for (const Vec3& x : surfacePoints())
-    for (const auto& s : surfaces_) depth = std::max(depth, -s->project(x).gap);
-  return depth;
+  return chs::deepestPenetration(surfacePoints(), surfaces_).depth;
 }
 
 }  // namespace chs
