@@ -111,6 +111,13 @@ bool SimNode::diverged(const Garment& g) const {
 void SimNode::stepGarment(Garment& g, double h, int depth) {
   const std::unique_ptr<chs::DynamicsSnapshot> before = g.dynamics->snapshot();
   g.dynamics->step(h);
+  if (const auto* shell = dynamic_cast<const chs::HybridShellDynamics*>(g.dynamics.get());
+      shell && shell->settings().integration == chs::TimeIntegration::kBackwardEuler &&
+      !shell->lastImplicitSolve().converged()) {
+    ++unconverged_solves_;
+    ROS_WARN_THROTTLE(5.0, "garment '%s': implicit solve %s", g.name.c_str(),
+                      shell->lastImplicitSolve().describe().c_str());
+  }
   if (!diverged(g)) return;
   g.dynamics->restore(*before);
   ++rollbacks_;
@@ -378,6 +385,7 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
               .depth);
     }
     s.rollbacks = rollbacks_;
+    s.unconverged_solves = unconverged_solves_;
     s.transforms_ok = transforms_ok_;
     s.stale_colliders = colliders_.staleNames();
     for (const auto& [name, grasp] : grasps_) s.grasps.push_back(name);
@@ -535,6 +543,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
   sim_time_ = 0.0;
   steps_ = 0;
   rollbacks_ = 0;
+  unconverged_solves_ = 0;
   last_ = UpdateStats();
   res.success = true;
   res.message = "reset " + std::to_string(garments_.size()) + " garments to their reference";

@@ -40,6 +40,22 @@ void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings
   nh.param("contact_shear_stiffness", s.contact.shear_stiffness, s.contact.shear_stiffness);
   nh.param("self_friction", s.contact.friction, s.contact.friction);
   nh.param("display_segments", s.display_segments, s.display_segments);
+  std::string integration = "symplectic_euler";
+  nh.param("integration", integration, integration);
+  if (integration == "symplectic_euler")
+    s.integration = chs::TimeIntegration::kSymplecticEuler;
+  else if (integration == "backward_euler")
+    s.integration = chs::TimeIntegration::kBackwardEuler;
+  else
+    throw chs::InputError("parameter ~mpm/integration '" + integration +
+                          "': use symplectic_euler or backward_euler");
+  nh.param("implicit_tolerance", s.implicit_tolerance, s.implicit_tolerance);
+  nh.param("max_newton_iterations", s.max_newton_iterations, s.max_newton_iterations);
+  nh.param("max_krylov_iterations", s.max_krylov_iterations, s.max_krylov_iterations);
+  if (!(s.implicit_tolerance > 0.0) || s.max_newton_iterations < 1 || s.max_krylov_iterations < 1)
+    throw chs::InputError(
+        "parameters ~mpm/implicit_tolerance, ~mpm/max_newton_iterations and "
+        "~mpm/max_krylov_iterations must be positive");
   if (s.kernel_degree != 2 && s.kernel_degree != 3)
     throw chs::InputError("parameter ~mpm/kernel_degree must be 2 or 3");
   if (s.kirchhoff_love.in_plane_order < 1 || s.kirchhoff_love.in_plane_order > 4)
@@ -92,6 +108,7 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   p.particle.damping = p.damping;
   loadHybridShellSettings(ros::NodeHandle(nh, "mpm"), p.mpm);
   p.mpm.damping = p.damping;
+  p.mpm.max_time_step = p.dt;  // backward Euler's step: ~dt, shortened by the CFL condition
   return p;
 }
 

@@ -110,6 +110,7 @@ class SimNode {
   double sim_time_ = 0.0;
   std::uint64_t steps_ = 0;
   int rollbacks_ = 0;
+  int unconverged_solves_ = 0;
   UpdateStats last_;
   std::atomic<bool> drape_running_{false};
 

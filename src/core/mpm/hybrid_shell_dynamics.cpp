@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -13,6 +14,7 @@
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
 #include "cloth_hair_sim/core/mpm/grid_forces.h"
+#include "cloth_hair_sim/core/mpm/grid_interpolation.h"
 #include "cloth_hair_sim/core/mpm/transfers.h"
 
 namespace chs {
@@ -59,6 +61,12 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
     throw InputError("hybrid shell: collider friction must be >= 0 and finite");
   if (s.display_segments < 1 || s.display_segments > 16)
     throw InputError("hybrid shell: display segments per face edge must lie in 1..16");
+  positive(s.max_time_step, "maximum time step");
+  positive(s.implicit_tolerance, "implicit solve tolerance");
+  if (s.max_newton_iterations < 1 || s.max_krylov_iterations < 1)
+    throw InputError("hybrid shell: Newton and Krylov iteration limits must be at least 1");
+  if (!(s.krylov_tolerance > 0.0 && s.krylov_tolerance < 1.0))
+    throw InputError("hybrid shell: Krylov tolerance must lie in (0, 1)");
   if (problem.mesh.numVertices() > s.max_control_points)
     throw InputError("hybrid shell: the garment has " + std::to_string(problem.mesh.numVertices()) +
                      " control points, more than the limit of " +
@@ -190,13 +198,16 @@ void HybridShellDynamics::step(double dt) {
     StageTimer t(times_.transfer_to_grid);
     transferToGrid();
   }
-  {
-    StageTimer t(times_.shell_forces);
-    computeGridForces();
-  }
-  {
+  if (settings_.integration == TimeIntegration::kSymplecticEuler) {
+    {
+      StageTimer t(times_.shell_forces);
+      computeGridForces();
+    }
     StageTimer t(times_.grid_update);
     updateGridMomentum(dt);
+  } else {
+    StageTimer t(times_.grid_update);
+    solveGridMomentum(dt);
   }
   {
     StageTimer t(times_.transfer_to_particles);
@@ -225,22 +236,28 @@ void HybridShellDynamics::transferToGrid() {
   std::swap(control_.mass, transfer_mass_);
 }
 
-// Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the Kirchhoff-Love forces on the control
-// points (5.32) and the contact forces through the surface tangents reach the grid with the
-// control points' weights (5.48); the fibre part of the contact force with the weight
-// gradients (5.49).
+// Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the forces at the step's start.
 void HybridShellDynamics::computeGridForces() {
+  scatterShellForces(control_.x, contact_.fibre);
+}
+
+// The Kirchhoff-Love forces on the control points (5.32) and the contact forces through the
+// surface tangents reach the grid with the control points' weights (5.48); the fibre part of the
+// contact force with the weight gradients (5.49), dotted with the step-start fibre a^n because
+// the trial fibre is (I + dt sum_i v_i (x) grad w_ip) a^n (5.44).
+void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
+                                             const std::vector<Vec3>& fibres) {
   const int nc = numVertices();
-  std::fill(control_force_.begin(), control_force_.end(), Vec3::Zero());
-  kirchhoffLoveEnergy(kl_points_, lamina_, control_.x, &kl_gradient_);
+  std::fill(grid_.force.begin(), grid_.force.end(), Vec3::Zero());
+  kirchhoffLoveEnergy(kl_points_, lamina_, x_control, &kl_gradient_);
   for (int p = 0; p < nc; ++p) control_force_[p] = -kl_gradient_[p];  // (5.32)
   tbb::enumerable_thread_specific<std::vector<Vec3>> local(
       [nc] { return std::vector<Vec3>(nc, Vec3::Zero()); });
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     const SurfaceStencil& s = contact_.stencil[p];
     Vec3 a1, a2;
-    tangents(s, control_.x, a1, a2);
-    const ContactEnergy e = contactEnergy(a1, a2, contact_.fibre[p], contact_material_);
+    tangents(s, x_control, a1, a2);
+    const ContactEnergy e = contactEnergy(a1, a2, fibres[p], contact_material_);
     const double V = contact_.p.volume0[p];
     std::vector<Vec3>& f = local.local();
     for (int k = 0; k < s.size(); ++k) f[s.points[k]] -= V * (s.du[k] * e.d_a1 + s.dv[k] * e.d_a2);
@@ -256,19 +273,104 @@ void HybridShellDynamics::computeGridForces() {
                           settings_.kernel_degree, &supports_[1]);
 }
 
-// Han (5.40) with gravity, then the obstacles' boundary conditions (section 3.4). Viscous
-// damping acts on the incoming momentum m_i v_i^n, taken implicitly so that it never reverses
-// a velocity; applied after the forces it would also eat a fraction c dt of each step's weight
-// and a held cloth's supports would carry less than its weight.
-void HybridShellDynamics::updateGridMomentum(double dt) {
-  if (settings_.damping > 0.0) {
-    const double keep = 1.0 / (1.0 + settings_.damping * dt);
-    for (int i = 0; i < grid_.size(); ++i) {
-      grid_.velocity[i] *= keep;
-      grid_.momentum[i] *= keep;
+// Han (3.9) with x* = x_i + dt v_i: control points at x_p + dt sum_i w_ip v_i (5.45) (pins at
+// their targets, fixed components at their reference), contact fibres at their trial value
+// (5.44) projected onto the Coulomb cone (5.28)-(5.30). The return mapping stays inside the
+// solve: lagging it gives a symmetric linearisation but cohesion artifacts (Han section 5.7),
+// which is why the solve is Newton-GMRES. Denting (5.5.5) is lagged: it changes the stiffness,
+// not the contact.
+void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_velocity,
+                                                 double dt) {
+  const int deg = settings_.kernel_degree;
+  mpm::interpolateNodeField(grid_, node_velocity, control_.x, deg, supports_[0], &trial_shift_,
+                            nullptr);
+  trial_control_.resize(numVertices());
+  for (int p = 0; p < numVertices(); ++p) {
+    if (pinned_[p]) {
+      trial_control_[p] = target_[p];
+      continue;
     }
+    trial_control_[p] = control_.x[p] + dt * trial_shift_[p];
+    for (int a = 0; a < 3; ++a)
+      if (free_axes_[p][a] == 0.0) trial_control_[p][a] = reference_[p][a];
   }
+  mpm::interpolateNodeField(grid_, node_velocity, contact_.p.x, deg, supports_[1], nullptr,
+                            &trial_gradient_);
+  trial_fibre_.resize(contact_.size());
+  tbb::parallel_for(0, contact_.size(), [&](int p) {
+    const Vec3& a = contact_.fibre[p];
+    Vec3 a1, a2;
+    tangents(contact_.stencil[p], trial_control_, a1, a2);
+    trial_fibre_[p] =
+        projectContactFibre(a1, a2, a + dt * trial_gradient_[p] * a, contact_material_);
+  });
+  scatterShellForces(trial_control_, trial_fibre_);
+}
+
+// Damping, then Han (5.40) with gravity, then the obstacles' boundary conditions (section 3.4).
+void HybridShellDynamics::updateGridMomentum(double dt) {
+  dampGridMomentum(dt);
   mpm::updateGridVelocity(grid_, gravity_, dt);
+  mpm::applyGridColliders(grid_, grid_colliders_);
+}
+
+// Viscous damping acts on the incoming momentum m_i v_i^n, taken implicitly so that it never
+// reverses a velocity; applied after the forces it would also eat a fraction c dt of each step's
+// weight and a held cloth's supports would carry less than its weight.
+void HybridShellDynamics::dampGridMomentum(double dt) {
+  if (settings_.damping <= 0.0) return;
+  const double keep = 1.0 / (1.0 + settings_.damping * dt);
+  for (int i = 0; i < grid_.size(); ++i) {
+    grid_.velocity[i] *= keep;
+    grid_.momentum[i] *= keep;
+  }
+}
+
+// Backward Euler, Han (3.7)-(3.9) with x* = x^{n+1}: the velocities of the nodes that carry mass
+// solve r_i(v) = m_i (v_i - v~_i) - dt f_i(x + dt v) = 0 with v~_i = v_i^n + dt g, by
+// Jacobian-free Newton-GMRES preconditioned with the masses. Massless nodes (touched only by
+// massless contact particles or pins) stay at rest as in the explicit update. The obstacles'
+// conditions follow the solve, as in the explicit step. A solve that stops short of its
+// tolerance keeps its last iterate (lastImplicitSolve() says so; the caller's checks decide).
+void HybridShellDynamics::solveGridMomentum(double dt) {
+  dampGridMomentum(dt);
+  std::vector<int> node;
+  for (int i = 0; i < grid_.size(); ++i)
+    if (grid_.mass[i] > 0.0) node.push_back(i);
+  const int n = static_cast<int>(node.size());
+  Eigen::VectorXd v(3 * n), v_free(3 * n), mass(3 * n);
+  double total_mass = 0.0;
+  for (int k = 0; k < n; ++k) {
+    v_free.segment<3>(3 * k) = grid_.velocity[node[k]] + dt * gravity_;
+    mass.segment<3>(3 * k).setConstant(grid_.mass[node[k]]);
+    total_mass += grid_.mass[node[k]];
+  }
+  v = v_free;
+  std::vector<Vec3> node_velocity(grid_.size(), Vec3::Zero());
+  auto residual = [&](const Eigen::VectorXd& u, Eigen::VectorXd& r) {
+    for (int k = 0; k < n; ++k) node_velocity[node[k]] = u.segment<3>(3 * k);
+    computeTrialGridForces(node_velocity, dt);
+    r.resize(3 * n);
+    for (int k = 0; k < n; ++k)
+      r.segment<3>(3 * k) =
+          mass.segment<3>(3 * k).cwiseProduct(u.segment<3>(3 * k) - v_free.segment<3>(3 * k)) -
+          dt * grid_.force[node[k]];
+  };
+  NewtonKrylovSettings ns;
+  ns.tolerance = settings_.implicit_tolerance * std::sqrt(total_mass);
+  ns.max_newton_iterations = settings_.max_newton_iterations;
+  ns.max_krylov_iterations = settings_.max_krylov_iterations;
+  ns.krylov_restart = settings_.max_krylov_iterations;
+  ns.krylov_tolerance = settings_.krylov_tolerance;
+  last_solve_ = solveNewtonKrylov(residual, mass, v, ns);
+  // Once more at the accepted velocities: the control forces of the end state are what the pins'
+  // support forces balance (a failed line search left those of a rejected trial).
+  Eigen::VectorXd r;
+  residual(v, r);
+  for (int i = 0; i < grid_.size(); ++i) {
+    grid_.velocity[i] = node_velocity[i];
+    grid_.momentum[i] = grid_.mass[i] * node_velocity[i];
+  }
   mpm::applyGridColliders(grid_, grid_colliders_);
 }
 
@@ -348,6 +450,11 @@ void HybridShellDynamics::updatePlasticity() {
 }
 
 double HybridShellDynamics::stableTimeStep() const {
+  double vmax = 0.0;
+  for (const auto& v : control_.v) vmax = std::max(vmax, v.norm());
+  const double cfl = vmax > 0.0 ? settings_.cfl * dx_ / vmax : std::numeric_limits<double>::max();
+  if (settings_.integration == TimeIntegration::kBackwardEuler)
+    return std::min(settings_.max_time_step, cfl);
   const double h = std::min(control_spacing_, dx_);
   const double membrane = young_ * thickness_ / (1.0 - poisson_ * poisson_);
   const double bending = membrane * thickness_ * thickness_ / 12.0;
@@ -357,11 +464,7 @@ double HybridShellDynamics::stableTimeStep() const {
   const double dt_bending = 2.0 * h * h / (M_PI * M_PI * std::sqrt(bending / areal_density_));
   const double k = std::max(contact_material_.normal_stiffness, contact_material_.shear_stiffness);
   const double dt_contact = dx_ / std::sqrt(k * thickness_ / areal_density_);
-  double dt = settings_.safety * std::min({dt_membrane, dt_bending, dt_contact});
-  double vmax = 0.0;
-  for (const auto& v : control_.v) vmax = std::max(vmax, v.norm());
-  if (vmax > 0.0) dt = std::min(dt, settings_.cfl * dx_ / vmax);
-  return dt;
+  return std::min(settings_.safety * std::min({dt_membrane, dt_bending, dt_contact}), cfl);
 }
 
 void HybridShellDynamics::setPositions(const std::vector<Vec3>& x) {

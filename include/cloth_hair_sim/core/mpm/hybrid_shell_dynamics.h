@@ -14,9 +14,16 @@
 #include "cloth_hair_sim/core/shell/contact_potential.h"
 #include "cloth_hair_sim/core/shell/hencky_lamina.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
+#include "cloth_hair_sim/core/solver/newton_krylov.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
 
 namespace chs {
+
+// How the grid momentum update (Han (3.7)-(3.9), (5.40)) takes the internal forces: at the
+// grid's current positions x* = x_i (symplectic Euler, explicit, bounded by the membrane wave
+// speed), or at its end-of-step positions x* = x_i + dt v_i^{n+1} (backward Euler, a nonlinear
+// system per step, bounded by the CFL condition only).
+enum class TimeIntegration { kSymplecticEuler, kBackwardEuler };
 
 // Resolution and model knobs of the hybrid shell. Zero or negative lengths and stiffnesses
 // mean "derive from the mesh and material" as documented per field.
@@ -27,6 +34,16 @@ struct HybridShellSettings {
   double rpic_damping = 0.0;  // nu of Han (5.52): 0 = APIC, 1 = RPIC
   double damping = 0.0;       // [1/s] viscous damping -c m v on the grid (settling drapes)
   double safety = 0.5;        // fraction of the elastic stability bound stableTimeStep() takes
+  TimeIntegration integration = TimeIntegration::kSymplecticEuler;
+  // Backward Euler: the longest step stableTimeStep() proposes [s] (the CFL bound shortens it),
+  // and the Newton-Krylov solve (solver/newton_krylov.h) of each step. It stops when the
+  // mass-weighted RMS of the velocity residual, sqrt(sum |r_i|^2 / m_i / sum m_i) with
+  // r_i = m_i (v_i - v~_i) - dt f_i(x*), is below implicit_tolerance [m/s].
+  double max_time_step = 1.0 / 240.0;
+  double implicit_tolerance = 1e-5;
+  int max_newton_iterations = 8;
+  int max_krylov_iterations = 60;
+  double krylov_tolerance = 1e-2;
   // Kirchhoff-Love quadrature (type iv): in-plane Gauss points per face edge and the rule
   // through the thickness (see KirchhoffLoveQuadrature).
   KirchhoffLoveQuadrature kirchhoff_love;
@@ -65,10 +82,12 @@ struct HybridStageTimes {
 // resolves contact with obstacles (boundary conditions) and between layers of the cloth
 // (the fibre contact potential). The ClothDynamics vertices are the control points.
 //
-// Explicit (symplectic Euler) steps, each the fixed sequence of Han section 5.5:
+// Each step is the fixed sequence of Han section 5.5:
 //   transfer to grid (5.37-5.38) -> grid forces (5.46-5.49)
 //   -> grid momentum (5.40) and obstacle conditions -> transfer to particles (5.50-5.52)
 //   -> positions and trial elastic state (5.53-5.54, 5.44) -> plasticity (5.5.5).
+// With backward Euler the grid forces and the grid momentum are one stage, a Newton-Krylov solve
+// for the end-of-step grid velocities.
 class HybridShellDynamics : public ClothDynamics {
  public:
   // Uses the problem's mesh (reference state), material (E, nu, thickness, areal density),
@@ -80,8 +99,9 @@ class HybridShellDynamics : public ClothDynamics {
 
   void step(double dt) override;
   double time() const override { return time_; }
-  // min(elastic bound (membrane and bending waves over the control spacing, fibre contact),
-  // CFL cfl dx / max speed), times settings.safety for the elastic part.
+  // Symplectic Euler: min(elastic bound (membrane and bending waves over the control spacing,
+  // fibre contact) times settings.safety, CFL cfl dx / max speed). Backward Euler:
+  // min(settings.max_time_step, CFL).
   double stableTimeStep() const override;
 
   int numVertices() const override { return static_cast<int>(control_.x.size()); }
@@ -115,6 +135,7 @@ class HybridShellDynamics : public ClothDynamics {
   DisplaySurface displaySurface() const override;
 
   // Diagnostics.
+  const HybridShellSettings& settings() const { return settings_; }
   double gridSpacing() const { return dx_; }
   int numContactParticles() const { return contact_.size(); }
   int numQuadraturePoints() const { return static_cast<int>(kl_points_.size()); }
@@ -126,6 +147,8 @@ class HybridShellDynamics : public ClothDynamics {
   // Deepest penetration of the tessellated limit surface into the colliders (>= 0).
   double deepestPenetration() const;
   const HybridStageTimes& stageTimes() const { return times_; }
+  // The Newton-Krylov solve of the last backward Euler step.
+  const NewtonKrylovResult& lastImplicitSolve() const { return last_solve_; }
   const LimitSurface& limitSurface() const { return *surface_; }
   // Points of the limit surface now (the display samples), for audits.
   std::vector<Eigen::Vector3d> surfacePoints() const;
@@ -135,6 +158,14 @@ class HybridShellDynamics : public ClothDynamics {
   void transferToGrid();
   void computeGridForces();
   void updateGridMomentum(double dt);
+  void solveGridMomentum(double dt);  // backward Euler: computeGridForces + updateGridMomentum
+  // Forces on the grid with the grid moved by node_velocity over dt (x* = x_i + dt v_i).
+  void computeTrialGridForces(const std::vector<Eigen::Vector3d>& node_velocity, double dt);
+  // -dPsi/dx_i on the grid (into grid_.force) for control points at x_control and contact
+  // fibres `fibres`, through the weights at the particles' step-start positions.
+  void scatterShellForces(const std::vector<Eigen::Vector3d>& x_control,
+                          const std::vector<Eigen::Vector3d>& fibres);
+  void dampGridMomentum(double dt);
   void transferToParticles(double dt);
   void updatePositionsAndTrialState(double dt);
   void updatePlasticity();
@@ -177,6 +208,11 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<Eigen::Vector3d> target_;
   std::vector<Eigen::Vector3d> pin_force_;  // support force on each control point, last step
   std::vector<Eigen::Vector3d> step_start_velocity_;  // of pinned points, for their acceleration
+
+  // Backward Euler scratch: trial control positions, contact fibres and velocity gradients.
+  std::vector<Eigen::Vector3d> trial_control_, trial_shift_, trial_fibre_;
+  std::vector<Eigen::Matrix3d> trial_gradient_;
+  NewtonKrylovResult last_solve_;
 
   double time_ = 0.0;
   HybridStageTimes times_;

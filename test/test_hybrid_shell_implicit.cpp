@@ -1,0 +1,194 @@
+// Backward Euler grid momentum update of the hybrid shell (Han (3.7)-(3.9) with x* = x^{n+1}):
+// statics that agree with the explicit integrator, steps far beyond the explicit stability bound
+// that never create energy, free fall, momentum, and bad settings.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/mesh/grid_generators.h"
+#include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+
+namespace chs {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+ShellMaterial cloth() {
+  ShellMaterial m;
+  m.young = 2e5;
+  m.poisson = 0.3;
+  m.thickness = 5e-4;
+  m.areal_density = 0.2;
+  return m;
+}
+
+HybridShellSettings backwardEuler(double dt) {
+  HybridShellSettings s;
+  s.integration = TimeIntegration::kBackwardEuler;
+  s.max_time_step = dt;
+  return s;
+}
+
+// A 10 x 10 cm sheet of 8 x 8 quads held along its top edge, hanging in the xz plane
+// (vertical) or lying in the xy plane (horizontal, it swings down).
+struct HeldSheet {
+  DrapeProblem problem;
+  std::vector<int> top;
+  explicit HeldSheet(bool vertical) {
+    const int n = 8;
+    problem.mesh = makeRectangleMesh(0.1, 0.1, n, n);
+    if (vertical)
+      for (auto& x : problem.mesh.vertices) x = Vec3(x.x(), 0.0, x.y());
+    problem.material = cloth();
+    for (int i = 0; i <= n; ++i) top.push_back(n * (n + 1) + i);
+    problem.bc.pinned = top;
+  }
+};
+
+// Kinetic, Kirchhoff-Love and gravitational energy (the fibres of a sheet that never touches
+// itself store none).
+double totalEnergy(const HybridShellDynamics& d, const Vec3& g) {
+  double e = d.kineticEnergy() + d.elasticEnergy();
+  for (int p = 0; p < d.numVertices(); ++p) e -= d.masses()[p] * g.dot(d.positions()[p]);
+  return e;
+}
+
+// The hanging sheet's equilibrium does not depend on the integrator: backward Euler at a step
+// 16 times the explicit bound settles where the damped explicit run settles, and its pins
+// carry the weight.
+TEST(HybridShellImplicit, HangingSheetSettlesWhereExplicitDoes) {
+  const HeldSheet sheet(true);
+  HybridShellSettings se;
+  se.damping = 20.0;
+  HybridShellDynamics explicit_run(sheet.problem, se);
+  const double dt_explicit = explicit_run.stableTimeStep();
+  while (explicit_run.time() < 0.6) explicit_run.step(explicit_run.stableTimeStep());
+
+  const double dt = 1.0 / 240.0;
+  HybridShellDynamics d(sheet.problem, backwardEuler(dt));
+  Vec3 held = Vec3::Zero();
+  int samples = 0, unconverged = 0;
+  while (d.time() < 0.6 - 1e-9) {
+    d.step(d.stableTimeStep());
+    if (!d.lastImplicitSolve().converged()) ++unconverged;
+    if (d.time() > 0.4) {
+      for (const Vec3& f : d.holdingForces(sheet.top)) held += f;
+      ++samples;
+    }
+  }
+  double gap = 0.0;
+  for (int p = 0; p < d.numVertices(); ++p)
+    gap = std::max(gap, (d.positions()[p] - explicit_run.positions()[p]).norm());
+  const double weight = d.totalMass() * 9.81, lift = held.z() / samples;
+  std::printf(
+      "[figure] hanging sheet, backward Euler at dt %.2e s (%.0f x the explicit bound %.2e s): "
+      "largest distance to the damped explicit state %.2e m (%.2e dx); pins hold %.3f %% of the "
+      "weight; %d unconverged solves\n",
+      dt, dt / dt_explicit, dt_explicit, gap, gap / d.gridSpacing(), 100 * lift / weight,
+      unconverged);
+  EXPECT_GT(dt / dt_explicit, 10.0);
+  EXPECT_LT(gap, 0.01 * d.gridSpacing());
+  EXPECT_NEAR(lift, weight, 1e-3 * weight);
+  EXPECT_EQ(unconverged, 0);
+}
+
+// A sheet held along one edge swings down from horizontal. Backward Euler at 1/240 s never gains
+// energy (it dissipates); symplectic Euler at the same step diverges.
+TEST(HybridShellImplicit, LargeStepsNeverCreateEnergy) {
+  const HeldSheet sheet(false);
+  const Vec3 g = sheet.problem.gravity;
+  const double dt = 1.0 / 240.0;
+  HybridShellDynamics d(sheet.problem, backwardEuler(dt));
+  const double e0 = totalEnergy(d, g);
+  double e_prev = e0, worst_rise = 0.0, lowest = 0.0;
+  while (d.time() < 0.5 - 1e-9) {
+    d.step(d.stableTimeStep());
+    const double e = totalEnergy(d, g);
+    worst_rise = std::max(worst_rise, e - e_prev);
+    e_prev = e;
+    for (const Vec3& x : d.positions()) lowest = std::min(lowest, x.z());
+  }
+  // Energy scale: the sheet's weight times its length (the drop of its centre is half that).
+  const double scale = d.totalMass() * 9.81 * 0.1;
+  std::printf(
+      "[figure] swinging sheet, backward Euler dt %.2e s: energy lost %.3e J of scale %.3e J, "
+      "largest rise in one step %.2e of the scale, lowest point %.4f m\n",
+      dt, e0 - e_prev, scale, worst_rise / scale, lowest);
+  EXPECT_LT(worst_rise, 1e-4 * scale);
+  EXPECT_LT(lowest, -0.05);  // it did swing down
+
+  HybridShellDynamics se(sheet.problem);
+  std::printf("[figure] symplectic Euler bound here %.2e s\n", se.stableTimeStep());
+  bool diverged = false;
+  for (int i = 0; i < 120 && !diverged; ++i) {
+    se.step(dt);
+    const double e = totalEnergy(se, g);
+    diverged = !std::isfinite(e) || e > e0 + 10.0 * scale;
+  }
+  EXPECT_TRUE(diverged);
+}
+
+// Without internal forces the solve is exact at once: the discrete free fall of symplectic Euler,
+// z_n = -g dt^2 n (n + 1) / 2.
+TEST(HybridShellImplicit, FreeFallIsExact) {
+  DrapeProblem p;
+  p.mesh = makeRectangleMesh(0.1, 0.1, 4, 4);
+  p.material = cloth();
+  const double dt = 1.0 / 240.0;
+  HybridShellDynamics d(p, backwardEuler(dt));
+  const int n = 48;
+  for (int i = 0; i < n; ++i) d.step(dt);
+  const double expected = -9.81 * dt * dt * n * (n + 1) / 2.0;
+  double worst = 0.0;
+  for (const Vec3& x : d.positions()) worst = std::max(worst, std::abs(x.z() - expected));
+  std::printf("[figure] backward Euler free fall, %d steps: largest error %.2e m of %.4f m\n", n,
+              worst, -expected);
+  EXPECT_LT(worst, 1e-12);
+}
+
+// A curved patch spinning in free flight: internal forces sum to zero at every trial state, so
+// linear momentum changes only by the solve's residual.
+TEST(HybridShellImplicit, LinearMomentumConservedToTheSolveTolerance) {
+  DrapeProblem p;
+  p.mesh = makeRectangleMesh(0.1, 0.1, 6, 6);
+  for (auto& x : p.mesh.vertices) x.z() = 2.0 * x.x() * x.x();
+  p.material = cloth();
+  p.gravity.setZero();
+  HybridShellSettings s = backwardEuler(1.0 / 240.0);
+  HybridShellDynamics d(p, s);
+  const Vec3 w(0.5, -1.0, 2.0), v0(0.3, 0.1, -0.2);
+  std::vector<Vec3> v;
+  for (const Vec3& x : d.positions()) v.push_back(v0 + w.cross(x));
+  d.setVelocities(v);
+  const Vec3 P0 = d.linearMomentum();
+  for (int i = 0; i < 60; ++i) d.step(d.stableTimeStep());
+  const double dP = (d.linearMomentum() - P0).norm() / P0.norm();
+  // Each step's residual is below implicit_tolerance in mass-weighted RMS velocity; summed over
+  // the nodes and 60 steps that bounds the drift by about 60 * tolerance / |v0|.
+  const double bound = 60.0 * s.implicit_tolerance / v0.norm();
+  std::printf(
+      "[figure] backward Euler free flight, 60 steps: relative change of linear momentum %.2e "
+      "(bound %.1e)\n",
+      dP, bound);
+  EXPECT_LT(dP, bound);
+}
+
+TEST(HybridShellImplicit, RejectsNonsense) {
+  DrapeProblem p;
+  p.mesh = makeRectangleMesh(0.1, 0.1, 2, 2);
+  p.material = cloth();
+  HybridShellSettings s = backwardEuler(0.0);
+  EXPECT_THROW((HybridShellDynamics{p, s}), InputError);
+  s = backwardEuler(0.01);
+  s.krylov_tolerance = 1.0;
+  EXPECT_THROW((HybridShellDynamics{p, s}), InputError);
+  s = backwardEuler(0.01);
+  s.max_newton_iterations = 0;
+  EXPECT_THROW((HybridShellDynamics{p, s}), InputError);
+}
+
+}  // namespace
+}  // namespace chs
