@@ -69,4 +69,17 @@ void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
     scatter<3>(grid, x, support, c);
 }
 
+void scatterStressForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
+                         const std::vector<Eigen::Matrix3d>& volume_stress, int degree,
+                         const SupportNodes* support) {
+  checkSizes(x.size(), volume_stress.size(), "stresses");
+  auto c = [&](int p, const auto& s, int i, int j, int k) -> Eigen::Vector3d {
+    return -volume_stress[p] * s.gradient(i, j, k);  // Han (3.9)
+  };
+  if (degree == 2)
+    scatter<2>(grid, x, support, c);
+  else
+    scatter<3>(grid, x, support, c);
+}
+
 }  // namespace chs::mpm

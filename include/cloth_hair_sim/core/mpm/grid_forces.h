@@ -27,4 +27,12 @@ void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& po
                         const std::vector<Eigen::Vector3d>& fibre_forces, int degree,
                         const SupportNodes* support = nullptr);
 
+// Han (3.9) for a continuum discretised by particles (type (i)): with V_p^0 the initial volume and
+// P(F_p) the first Piola-Kirchhoff stress, -dPsi/dx_i = -sum_p V_p^0 P(F_p) F_p^T grad w_ip.
+// The material enters only through volume_stress[p] = V_p^0 P(F_p) F_p^T (the volume-weighted
+// Kirchhoff stress), so any constitutive model can share the scatter.
+void scatterStressForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& positions,
+                         const std::vector<Eigen::Matrix3d>& volume_stress, int degree,
+                         const SupportNodes* support = nullptr);
+
 }  // namespace chs::mpm
