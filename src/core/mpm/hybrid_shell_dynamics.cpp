@@ -188,6 +188,32 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
 void HybridShellDynamics::step(double dt) {
   if (!(dt > 0.0 && std::isfinite(dt)))
     throw InputError("hybrid shell: time step must be positive, got " + std::to_string(dt));
+  if (settings_.integration == TimeIntegration::kSymplecticEuler) {
+    advance(dt, false);
+    return;
+  }
+  // A backward Euler solve that stops short of its tolerance (Newton stalls at the kinks of
+  // the Coulomb return and the fibres' separation once layers touch) would keep an iterate that
+  // can let layers pass through each other: the step is redone with explicit substeps instead,
+  // the pins moving along the same straight path.
+  const std::unique_ptr<DynamicsSnapshot> start = snapshot();
+  advance(dt, true);
+  if (last_solve_.converged()) return;
+  restore(*start);
+  ++implicit_fallbacks_;
+  const double t0 = time_, t1 = time_ + dt;
+  const std::vector<Vec3> from = control_.x, to = target_;
+  while (time_ < t1 - 1e-12 * dt) {
+    const double h = std::min(explicitTimeStep(), t1 - time_);
+    const double f = (time_ + h - t0) / dt;
+    for (int p = 0; p < numVertices(); ++p)
+      if (pinned_[p]) target_[p] = from[p] + (to[p] - from[p]) * f;
+    advance(h, false);
+  }
+  target_ = to;
+}
+
+void HybridShellDynamics::advance(double dt, bool implicit) {
   // Pins carry their control points to the target at constant velocity over this step.
   for (int p = 0; p < numVertices(); ++p)
     if (pinned_[p]) {
@@ -198,7 +224,7 @@ void HybridShellDynamics::step(double dt) {
     StageTimer t(times_.transfer_to_grid);
     transferToGrid();
   }
-  if (settings_.integration == TimeIntegration::kSymplecticEuler) {
+  if (!implicit) {
     {
       StageTimer t(times_.shell_forces);
       computeGridForces();
@@ -362,7 +388,12 @@ void HybridShellDynamics::solveGridMomentum(double dt) {
   ns.max_krylov_iterations = settings_.max_krylov_iterations;
   ns.krylov_restart = settings_.max_krylov_iterations;
   ns.krylov_tolerance = settings_.krylov_tolerance;
-  last_solve_ = solveNewtonKrylov(residual, mass, v, ns);
+  // Preconditioner and norm: the masses, floored at a thousandth of the mean node mass. Nodes at
+  // the edge of a kernel carry ~1e-14 of a control point's mass yet receive fibre forces; with
+  // their bare mass they dominate the weighted residual and stall the solve.
+  const double floor = 1e-3 * total_mass / std::max(n, 1);
+  const Eigen::VectorXd weight = mass.cwiseMax(floor);
+  last_solve_ = solveNewtonKrylov(residual, weight, v, ns);
   // Once more at the accepted velocities: the control forces of the end state are what the pins'
   // support forces balance (a failed line search left those of a rejected trial).
   Eigen::VectorXd r;
@@ -449,12 +480,13 @@ void HybridShellDynamics::updatePlasticity() {
   });
 }
 
-double HybridShellDynamics::stableTimeStep() const {
+double HybridShellDynamics::cflTimeStep() const {
   double vmax = 0.0;
   for (const auto& v : control_.v) vmax = std::max(vmax, v.norm());
-  const double cfl = vmax > 0.0 ? settings_.cfl * dx_ / vmax : std::numeric_limits<double>::max();
-  if (settings_.integration == TimeIntegration::kBackwardEuler)
-    return std::min(settings_.max_time_step, cfl);
+  return vmax > 0.0 ? settings_.cfl * dx_ / vmax : std::numeric_limits<double>::max();
+}
+
+double HybridShellDynamics::explicitTimeStep() const {
   const double h = std::min(control_spacing_, dx_);
   const double membrane = young_ * thickness_ / (1.0 - poisson_ * poisson_);
   const double bending = membrane * thickness_ * thickness_ / 12.0;
@@ -464,7 +496,14 @@ double HybridShellDynamics::stableTimeStep() const {
   const double dt_bending = 2.0 * h * h / (M_PI * M_PI * std::sqrt(bending / areal_density_));
   const double k = std::max(contact_material_.normal_stiffness, contact_material_.shear_stiffness);
   const double dt_contact = dx_ / std::sqrt(k * thickness_ / areal_density_);
-  return std::min(settings_.safety * std::min({dt_membrane, dt_bending, dt_contact}), cfl);
+  return std::min(settings_.safety * std::min({dt_membrane, dt_bending, dt_contact}),
+                  cflTimeStep());
+}
+
+double HybridShellDynamics::stableTimeStep() const {
+  if (settings_.integration == TimeIntegration::kBackwardEuler)
+    return std::min(settings_.max_time_step, cflTimeStep());
+  return explicitTimeStep();
 }
 
 void HybridShellDynamics::setPositions(const std::vector<Vec3>& x) {

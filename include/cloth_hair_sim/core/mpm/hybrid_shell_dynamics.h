@@ -101,7 +101,8 @@ class HybridShellDynamics : public ClothDynamics {
   double time() const override { return time_; }
   // Symplectic Euler: min(elastic bound (membrane and bending waves over the control spacing,
   // fibre contact) times settings.safety, CFL cfl dx / max speed). Backward Euler:
-  // min(settings.max_time_step, CFL).
+  // min(settings.max_time_step, CFL); a step whose solve falls short of the tolerance is redone
+  // with explicit substeps (implicitFallbacks()).
   double stableTimeStep() const override;
 
   int numVertices() const override { return static_cast<int>(control_.x.size()); }
@@ -147,13 +148,19 @@ class HybridShellDynamics : public ClothDynamics {
   // Deepest penetration of the tessellated limit surface into the colliders (>= 0).
   double deepestPenetration() const;
   const HybridStageTimes& stageTimes() const { return times_; }
-  // The Newton-Krylov solve of the last backward Euler step.
+  // The Newton-Krylov solve of the last backward Euler step, and how many backward Euler steps
+  // fell short of the tolerance and were redone with explicit substeps (since construction).
   const NewtonKrylovResult& lastImplicitSolve() const { return last_solve_; }
+  int implicitFallbacks() const { return implicit_fallbacks_; }
   const LimitSurface& limitSurface() const { return *surface_; }
   // Points of the limit surface now (the display samples), for audits.
   std::vector<Eigen::Vector3d> surfacePoints() const;
 
  private:
+  // One step of the stages below: symplectic Euler, or backward Euler if `implicit`.
+  void advance(double dt, bool implicit);
+  double explicitTimeStep() const;  // elastic bound times safety, and CFL
+  double cflTimeStep() const;
   // The stages of step(), Han section 5.5.
   void transferToGrid();
   void computeGridForces();
@@ -213,6 +220,7 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<Eigen::Vector3d> trial_control_, trial_shift_, trial_fibre_;
   std::vector<Eigen::Matrix3d> trial_gradient_;
   NewtonKrylovResult last_solve_;
+  int implicit_fallbacks_ = 0;
 
   double time_ = 0.0;
   HybridStageTimes times_;
