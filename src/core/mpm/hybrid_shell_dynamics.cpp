@@ -5,6 +5,9 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
+
+#include <Eigen/LU>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -13,6 +16,7 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
+#include "cloth_hair_sim/core/mpm/elastic_solid.h"
 #include "cloth_hair_sim/core/mpm/grid_forces.h"
 #include "cloth_hair_sim/core/mpm/grid_interpolation.h"
 #include "cloth_hair_sim/core/mpm/transfers.h"
@@ -100,6 +104,9 @@ struct HybridSnapshot : DynamicsSnapshot {
   std::vector<Vec3> fibre;
   std::vector<Eigen::Matrix3d> plastic;  // F^{KL,P} of each quadrature point
   std::vector<Vec3> pin_force;
+  mpm::Particles solid;
+  std::optional<mpm::HenckySolid> solid_material;
+  double solid_wave_speed = 0.0;
   double time = 0.0;
 };
 
@@ -252,19 +259,26 @@ void HybridShellDynamics::advance(double dt, bool implicit) {
 // control points are prescribed, not grid degrees of freedom (a Dirichlet condition): they give
 // the grid neither mass nor force, and act on the cloth through the shell energy alone. Handed
 // to the grid, their zero velocity would smear a clamp over a kernel width (a cantilever read
-// 4-10 % stiff) and hold their neighbours back.
+// 4-10 % stiff) and hold their neighbours back. The solid's particles (type (i)) are the third
+// set: where their supports overlap the cloth's, the nodes carry both, and that shared velocity
+// is the two-way coupling.
 void HybridShellDynamics::transferToGrid() {
   transfer_mass_ = control_.mass;
   for (int p = 0; p < numVertices(); ++p)
     if (pinned_[p]) transfer_mass_[p] = 0.0;
   std::swap(control_.mass, transfer_mass_);  // the transfer reads the particles' mass field
-  mpm::particleToGrid({&control_, &contact_.p}, grid_, settings_.kernel_degree, &supports_);
+  mpm::particleToGrid({&control_, &contact_.p, &solid_}, grid_, settings_.kernel_degree,
+                      &supports_);
   std::swap(control_.mass, transfer_mass_);
 }
 
-// Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the forces at the step's start.
+// Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the forces at the step's start; the solid's
+// -sum_p V_p^0 tau(F_p) grad w_ip (3.9) adds to them.
 void HybridShellDynamics::computeGridForces() {
   scatterShellForces(control_.x, contact_.fibre);
+  if (solid_.size() > 0)
+    mpm::scatterElasticStress(grid_, solid_, *solid_material_, settings_.kernel_degree,
+                              &supports_[2]);
 }
 
 // The Kirchhoff-Love forces on the control points (5.32) and the contact forces through the
@@ -331,6 +345,30 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
         projectContactFibre(a1, a2, a + dt * trial_gradient_[p] * a, contact_material_);
   });
   scatterShellForces(trial_control_, trial_fibre_);
+  scatterTrialSolidStress(node_velocity, dt);
+}
+
+// Han (3.9) at x* = x_i + dt v_i: f_i = -sum_p V_p^0 P(F*_p) (F^n_p)^T grad w_ip with the trial
+// F* = (I + dt grad v_p) F^n (3.17), the weights at the step start. Not tau(F*): the chain rule
+// through x* leaves F^n, not F*, beside P. A trial that inverts a particle (det F* <= 0, which a
+// long Newton step can propose) has no Hencky stress; its NaN stress makes the residual
+// non-finite, and the solver backtracks (solver/newton_krylov.h).
+void HybridShellDynamics::scatterTrialSolidStress(const std::vector<Vec3>& node_velocity,
+                                                  double dt) {
+  if (solid_.size() == 0) return;
+  const int deg = settings_.kernel_degree;
+  mpm::interpolateNodeField(grid_, node_velocity, solid_.x, deg, supports_[2], nullptr,
+                            &solid_gradient_);
+  solid_stress_.resize(solid_.size());
+  tbb::parallel_for(0, solid_.size(), [&](int p) {
+    const Eigen::Matrix3d& Fn = solid_.F[p];
+    const Eigen::Matrix3d F = (Eigen::Matrix3d::Identity() + dt * solid_gradient_[p]) * Fn;
+    solid_stress_[p] = F.allFinite() && F.determinant() > 0.0
+                           ? Eigen::Matrix3d(solid_.volume0[p] *
+                                             solid_material_->firstPiolaStress(F) * Fn.transpose())
+                           : Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  });
+  mpm::scatterStressForces(grid_, solid_.x, solid_stress_, deg, &supports_[2]);
 }
 
 // Damping, then Han (5.40) with gravity, then the obstacles' boundary conditions (section 3.4).
@@ -388,12 +426,7 @@ void HybridShellDynamics::solveGridMomentum(double dt) {
   ns.max_krylov_iterations = settings_.max_krylov_iterations;
   ns.krylov_restart = settings_.max_krylov_iterations;
   ns.krylov_tolerance = settings_.krylov_tolerance;
-  // Preconditioner and norm: the masses, floored at a thousandth of the mean node mass. Nodes at
-  // the edge of a kernel carry ~1e-14 of a control point's mass yet receive fibre forces; with
-  // their bare mass they dominate the weighted residual and stall the solve.
-  const double floor = 1e-3 * total_mass / std::max(n, 1);
-  const Eigen::VectorXd weight = mass.cwiseMax(floor);
-  last_solve_ = solveNewtonKrylov(residual, weight, v, ns);
+  last_solve_ = solveNewtonKrylov(residual, mass, v, ns);
   // Once more at the accepted velocities: the control forces of the end state are what the pins'
   // support forces balance (a failed line search left those of a rejected trial).
   Eigen::VectorXd r;
@@ -406,7 +439,8 @@ void HybridShellDynamics::solveGridMomentum(double dt) {
 }
 
 // Han (5.50)-(5.53): velocities and affine velocities from the grid; control points move with
-// the grid. F of each particle becomes I + dt grad v (5.43)-(5.44), the map of this step.
+// the grid. F of each shell particle becomes I + dt grad v (5.43)-(5.44), the map of this step;
+// the solid's F accumulates, F <- (I + dt grad v) F (3.17).
 void HybridShellDynamics::transferToParticles(double dt) {
   for (auto* set : {&control_, &contact_.p})
     std::fill(set->F.begin(), set->F.end(), Eigen::Matrix3d::Identity());
@@ -414,6 +448,8 @@ void HybridShellDynamics::transferToParticles(double dt) {
                       &supports_[0]);
   mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[1]);
+  mpm::gridToParticle(grid_, solid_, settings_.kernel_degree, settings_.rpic_damping, dt,
+                      &supports_[2]);
 }
 
 // Pins, obstacles for the control points, (5.54) for the contact particles and the trial
@@ -482,7 +518,8 @@ void HybridShellDynamics::updatePlasticity() {
 
 double HybridShellDynamics::cflTimeStep() const {
   double vmax = 0.0;
-  for (const auto& v : control_.v) vmax = std::max(vmax, v.norm());
+  for (const auto* set : {&control_, &solid_})
+    for (const auto& v : set->v) vmax = std::max(vmax, v.norm());
   return vmax > 0.0 ? settings_.cfl * dx_ / vmax : std::numeric_limits<double>::max();
 }
 
@@ -496,7 +533,10 @@ double HybridShellDynamics::explicitTimeStep() const {
   const double dt_bending = 2.0 * h * h / (M_PI * M_PI * std::sqrt(bending / areal_density_));
   const double k = std::max(contact_material_.normal_stiffness, contact_material_.shear_stiffness);
   const double dt_contact = dx_ / std::sqrt(k * thickness_ / areal_density_);
-  return std::min(settings_.safety * std::min({dt_membrane, dt_bending, dt_contact}),
+  // The solid's fastest (dilatational) wave over a cell, as for a plain MPM continuum.
+  const double dt_solid =
+      solid_.size() > 0 ? dx_ / solid_wave_speed_ : std::numeric_limits<double>::infinity();
+  return std::min(settings_.safety * std::min({dt_membrane, dt_bending, dt_contact, dt_solid}),
                   cflTimeStep());
 }
 
@@ -537,7 +577,7 @@ void HybridShellDynamics::setVelocities(const std::vector<Vec3>& v) {
 
 double HybridShellDynamics::kineticEnergy() const {
   double e = 0.0;
-  for (const auto* set : {&control_, &contact_.p})
+  for (const auto* set : {&control_, &contact_.p, &solid_})
     for (int p = 0; p < set->size(); ++p) e += 0.5 * set->mass[p] * set->v[p].squaredNorm();
   return e;
 }
@@ -612,6 +652,9 @@ std::unique_ptr<DynamicsSnapshot> HybridShellDynamics::snapshot() const {
   s->fibre = contact_.fibre;
   for (const auto& q : kl_points_) s->plastic.push_back(q.plasticDeformation());
   s->pin_force = pin_force_;
+  s->solid = solid_;
+  s->solid_material = solid_material_;
+  s->solid_wave_speed = solid_wave_speed_;
   s->time = time_;
   return s;
 }
@@ -624,7 +667,42 @@ void HybridShellDynamics::restore(const DynamicsSnapshot& snapshot) {
   for (std::size_t q = 0; q < kl_points_.size(); ++q)
     kl_points_[q].setPlasticDeformation(s.plastic[q]);
   pin_force_ = s.pin_force;
+  solid_ = s.solid;
+  solid_material_ = s.solid_material;
+  solid_wave_speed_ = s.solid_wave_speed;
   time_ = s.time;
+}
+
+void HybridShellDynamics::addSolid(mpm::Particles particles, const mpm::HenckySolid& material) {
+  if (solid_.size() > 0)
+    throw InputError("hybrid shell: it already carries a solid (one solid per shell)");
+  const std::size_t n = particles.x.size();
+  if (n == 0) throw InputError("hybrid shell: the solid has no particles");
+  if (particles.v.size() != n || particles.C.size() != n || particles.F.size() != n ||
+      particles.mass.size() != n || particles.volume0.size() != n)
+    throw InputError("hybrid shell: solid particle arrays of different lengths (" +
+                     std::to_string(n) + " positions, " + std::to_string(particles.v.size()) +
+                     " velocities, " + std::to_string(particles.C.size()) + " C, " +
+                     std::to_string(particles.F.size()) + " F, " +
+                     std::to_string(particles.mass.size()) + " masses, " +
+                     std::to_string(particles.volume0.size()) + " volumes)");
+  double wave_speed = 0.0;
+  for (int p = 0; p < particles.size(); ++p) {
+    const std::string which = "hybrid shell: solid particle " + std::to_string(p);
+    const double m = particles.mass[p], V = particles.volume0[p];
+    if (!(m > 0.0 && std::isfinite(m)))
+      throw InputError(which + " has mass " + std::to_string(m) + " (must be positive, finite)");
+    if (!(V > 0.0 && std::isfinite(V)))
+      throw InputError(which + " has volume " + std::to_string(V) + " (must be positive, finite)");
+    if (!particles.x[p].allFinite() || !particles.v[p].allFinite() || !particles.C[p].allFinite() ||
+        !particles.F[p].allFinite())
+      throw InputError(which + " has a non-finite position, velocity, C or F");
+    if (!(particles.F[p].determinant() > 0.0)) throw InputError(which + " starts with det F <= 0");
+    wave_speed = std::max(wave_speed, material.dilatationalWaveSpeed(m / V));
+  }
+  solid_ = std::move(particles);
+  solid_material_ = material;
+  solid_wave_speed_ = wave_speed;
 }
 
 std::vector<Vec3> HybridShellDynamics::surfacePoints() const {
@@ -637,14 +715,14 @@ DisplaySurface HybridShellDynamics::displaySurface() const {
 
 double HybridShellDynamics::totalMass() const {
   double m = 0.0;
-  for (const auto* set : {&control_, &contact_.p})
+  for (const auto* set : {&control_, &contact_.p, &solid_})
     for (double mp : set->mass) m += mp;
   return m;
 }
 
 Vec3 HybridShellDynamics::linearMomentum() const {
   Vec3 P = Vec3::Zero();
-  for (const auto* set : {&control_, &contact_.p})
+  for (const auto* set : {&control_, &contact_.p, &solid_})
     for (int p = 0; p < set->size(); ++p) P += set->mass[p] * set->v[p];
   return P;
 }
@@ -656,7 +734,7 @@ Vec3 HybridShellDynamics::angularMomentum() const {
       1.0 / (settings_.kernel_degree == 2 ? mpm::ParticleStencil<2>::inverseInertia(dx_)
                                           : mpm::ParticleStencil<3>::inverseInertia(dx_));
   Vec3 L = Vec3::Zero();
-  for (const auto* set : {&control_, &contact_.p})
+  for (const auto* set : {&control_, &contact_.p, &solid_})
     for (int p = 0; p < set->size(); ++p) {
       const Eigen::Matrix3d& C = set->C[p];
       L += set->mass[p] * (set->x[p].cross(set->v[p]) +

@@ -1,6 +1,7 @@
 #pragma once
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -8,6 +9,7 @@
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
+#include "cloth_hair_sim/core/mpm/hencky_solid.h"
 #include "cloth_hair_sim/core/mpm/mpm_particles.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
 #include "cloth_hair_sim/core/mpm/support_nodes.h"
@@ -81,6 +83,8 @@ struct HybridStageTimes {
 // quadrature points carry the lamina's elastoplastic state (type iv). One background grid
 // resolves contact with obstacles (boundary conditions) and between layers of the cloth
 // (the fibre contact potential). The ClothDynamics vertices are the control points.
+// Optionally the grid also carries type (i) particles of an elastic solid (addSolid): solid and
+// garment then meet on the same nodes, so each pushes the other through the grid velocities.
 //
 // Each step is the fixed sequence of Han section 5.5:
 //   transfer to grid (5.37-5.38) -> grid forces (5.46-5.49)
@@ -100,9 +104,10 @@ class HybridShellDynamics : public ClothDynamics {
   void step(double dt) override;
   double time() const override { return time_; }
   // Symplectic Euler: min(elastic bound (membrane and bending waves over the control spacing,
-  // fibre contact) times settings.safety, CFL cfl dx / max speed). Backward Euler:
-  // min(settings.max_time_step, CFL); a step whose solve falls short of the tolerance is redone
-  // with explicit substeps (implicitFallbacks()).
+  // fibre contact, the solid's dilatational wave over dx) times settings.safety, CFL cfl dx /
+  // max speed of control and solid particles). Backward Euler: min(settings.max_time_step, CFL);
+  // a step whose solve falls short of the tolerance is redone with explicit substeps
+  // (implicitFallbacks()).
   double stableTimeStep() const override;
 
   int numVertices() const override { return static_cast<int>(control_.x.size()); }
@@ -112,7 +117,7 @@ class HybridShellDynamics : public ClothDynamics {
   void setPositions(const std::vector<Eigen::Vector3d>& x) override;
   void setVelocities(const std::vector<Eigen::Vector3d>& v) override;
   const std::vector<double>& masses() const override { return control_.mass; }
-  double kineticEnergy() const override;  // of control and contact particles
+  double kineticEnergy() const override;  // of control, contact and solid particles
 
   void setColliders(const RigidSurfaces& colliders,
                     const std::vector<SurfaceVelocity>& velocities = {},
@@ -135,13 +140,23 @@ class HybridShellDynamics : public ClothDynamics {
   // The limit surface tessellated with settings.display_segments per face edge.
   DisplaySurface displaySurface() const override;
 
+  // Type (i) particles (Han chapter 3) of one elastic solid of Hencky material (Han (4.5)) on the
+  // shell's grid, stepped with the shell: transferred to the grid with it, their stress
+  // (3.9) added to its forces, moved by the same grid velocities after the same damping and
+  // obstacle conditions, F updated by (3.17). Their momentum, mass and energy count in the
+  // diagnostics; snapshot/restore carry them. Throws InputError for arrays of different
+  // lengths, no particles, non-finite state, non-positive mass or volume, det F <= 0, or a
+  // second solid.
+  void addSolid(mpm::Particles particles, const mpm::HenckySolid& material);
+  const mpm::Particles& solidParticles() const { return solid_; }
+
   // Diagnostics.
   const HybridShellSettings& settings() const { return settings_; }
   double gridSpacing() const { return dx_; }
   int numContactParticles() const { return contact_.size(); }
   int numQuadraturePoints() const { return static_cast<int>(kl_points_.size()); }
   int numGridNodes() const { return grid_.size(); }
-  double totalMass() const;
+  double totalMass() const;  // control, contact and solid particles
   Eigen::Vector3d linearMomentum() const;
   Eigen::Vector3d angularMomentum() const;  // about the origin, particles' x m v + APIC spin
   double elasticEnergy() const;             // Kirchhoff-Love lamina energy now
@@ -168,6 +183,8 @@ class HybridShellDynamics : public ClothDynamics {
   void solveGridMomentum(double dt);  // backward Euler: computeGridForces + updateGridMomentum
   // Forces on the grid with the grid moved by node_velocity over dt (x* = x_i + dt v_i).
   void computeTrialGridForces(const std::vector<Eigen::Vector3d>& node_velocity, double dt);
+  // Adds the solid's stress forces at trial deformation gradients (I + dt grad v) F^n to the grid.
+  void scatterTrialSolidStress(const std::vector<Eigen::Vector3d>& node_velocity, double dt);
   // -dPsi/dx_i on the grid (into grid_.force) for control points at x_control and contact
   // fibres `fibres`, through the weights at the particles' step-start positions.
   void scatterShellForces(const std::vector<Eigen::Vector3d>& x_control,
@@ -196,11 +213,14 @@ class HybridShellDynamics : public ClothDynamics {
     std::vector<Eigen::Vector3d> fibre_force;  // -V dchi/da3 at the start of the step
     int size() const { return p.size(); }
   } contact_;
+  mpm::Particles solid_;  // type (i), empty unless addSolid
+  std::optional<mpm::HenckySolid> solid_material_;
+  double solid_wave_speed_ = 0.0;  // fastest dilatational wave of the solid's particles
   std::vector<SurfaceStencil> display_stencils_;
   std::vector<std::array<int, 3>> display_triangles_;
 
   mpm::SparseGrid grid_;
-  std::vector<mpm::SupportNodes> supports_;     // of control_ and contact_.p, from transferToGrid
+  std::vector<mpm::SupportNodes> supports_;     // of control_, contact_.p, solid_ (transferToGrid)
   std::vector<Eigen::Vector3d> control_force_;  // -dPsi/dx_p on control points this step
   std::vector<Eigen::Vector3d> kl_gradient_;    // dPsi^KL/dx_p
   std::vector<Eigen::Vector3d> grid_force_;     // control_force_ without the pinned points
@@ -219,6 +239,7 @@ class HybridShellDynamics : public ClothDynamics {
   // Backward Euler scratch: trial control positions, contact fibres and velocity gradients.
   std::vector<Eigen::Vector3d> trial_control_, trial_shift_, trial_fibre_;
   std::vector<Eigen::Matrix3d> trial_gradient_;
+  std::vector<Eigen::Matrix3d> solid_gradient_, solid_stress_;  // grad v and V^0 P(F*) F^nT
   NewtonKrylovResult last_solve_;
   int implicit_fallbacks_ = 0;
 
