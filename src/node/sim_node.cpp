@@ -115,8 +115,8 @@ void SimNode::stepGarment(Garment& g, double h, int depth) {
       shell && shell->settings().integration == chs::TimeIntegration::kBackwardEuler &&
       !shell->lastImplicitSolve().converged()) {
     ++unconverged_solves_;
-    ROS_WARN_THROTTLE(5.0, "garment '%s': implicit solve %s", g.name.c_str(),
-                      shell->lastImplicitSolve().describe().c_str());
+    ROS_WARN_THROTTLE(5.0, "garment '%s': implicit solve %s; redone with explicit substeps",
+                      g.name.c_str(), shell->lastImplicitSolve().describe().c_str());
   }
   if (!diverged(g)) return;
   g.dynamics->restore(*before);
