@@ -69,8 +69,9 @@ class ParticleDynamics : public ClothDynamics {
   double externalPotential() const { return loads_.potential(x_); }  // gravity, nodal forces
   double potentialEnergy() const { return elasticEnergy() + externalPotential(); }
   Eigen::Vector3d centreOfMass() const;
-  // 2 / omega_max with omega_max^2 bounded by the largest stiffness bound / mass: inside RK4's
-  // stability interval (|omega dt| < 2.8) for the undamped network.
+  // 1 / omega_max, omega_max^2 bounded by the largest stiffness bound / mass: half of the step
+  // 2 / omega_max that stays inside RK4's stability interval (|omega dt| < 2.8) for the undamped
+  // network, the other half a margin for contact stiffening.
   double stableTimeStep() const override;
   // Forces the obstacles exert on the nodes now touching them.
   std::vector<ContactReaction> contactReactions() const;
