@@ -41,7 +41,7 @@ Slide slideOnIncline(double theta, double mu, double duration) {
   ParticleDynamicsSettings s;
   s.friction = mu;
   ParticleDynamics d(p, s);
-  const double dt = 0.5 * d.stableTimeStep();
+  const double dt = d.stableTimeStep();
   const int steps = static_cast<int>(std::ceil(duration / dt));
   for (int k = 0; k < steps; ++k) d.step(duration / steps);
   Slide out{0.0, 0.0};

@@ -234,11 +234,4 @@ void resetDynamics(Garment& g, const SimParams& params) {
     g.dynamics = std::make_unique<chs::ParticleDynamics>(g.reference, params.particle);
 }
 
-double stableSubstep(const Garment& g) {
-  // The particle network's bound is RK4's stability interval: keep a margin for contact
-  // stiffening. The hybrid shell applies its own safety factor.
-  const bool particle = dynamic_cast<const chs::ParticleDynamics*>(g.dynamics.get()) != nullptr;
-  return (particle ? 0.5 : 1.0) * g.dynamics->stableTimeStep();
-}
-
 }  // namespace chs_node

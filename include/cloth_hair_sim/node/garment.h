@@ -45,8 +45,4 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
 // name. Throws chs::InputError when the backend refuses the garment.
 void resetDynamics(Garment& garment, const SimParams& params);
 
-// The largest substep the garment's dynamics tolerates now (explicit integrators; the hybrid
-// shell's also shrinks with speed through its CFL condition).
-double stableSubstep(const Garment& garment);
-
 }  // namespace chs_node

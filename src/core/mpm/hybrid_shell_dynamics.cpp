@@ -128,7 +128,8 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
           surface_->numFaces(),
           [this](int f, double u, double v) { return surface_->stencil(f, u, v); },
           problem.mesh.vertices, problem.material.thickness, settings.kirchhoff_love)),
-      grid_(dx_) {
+      grid_(dx_),
+      pins_({"hybrid shell", "control point", "control points"}, problem.mesh.vertices) {
   contact_material_ = settings.contact;
   if (contact_material_.normal_stiffness <= 0.0) contact_material_.normal_stiffness = young_;
   if (contact_material_.shear_stiffness <= 0.0) contact_material_.shear_stiffness = 0.1 * young_;
@@ -183,12 +184,10 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
   free_axes_.assign(nc, Vec3::Ones());
   for (const auto& f : problem.bc.fixed_components) free_axes_[f.vertex][f.axis] = 0.0;
   reference_ = x0;
-  pinned_.assign(nc, 0);
-  target_ = x0;
   pin_force_.assign(nc, Vec3::Zero());
   step_start_velocity_.assign(nc, Vec3::Zero());
-  for (int v : problem.bc.clamped) pinned_[v] = 1;
-  for (int v : problem.bc.pinned) pinned_[v] = 1;
+  for (int v : problem.bc.clamped) pins_.pinInPlace(v, x0);
+  for (int v : problem.bc.pinned) pins_.pinInPlace(v, x0);
   setColliders(problem.colliders);
 }
 
@@ -209,24 +208,23 @@ void HybridShellDynamics::step(double dt) {
   restore(*start);
   ++implicit_fallbacks_;
   const double t0 = time_, t1 = time_ + dt;
-  const std::vector<Vec3> from = control_.x, to = target_;
+  const std::vector<Vec3> from = control_.x;
+  const PinSet held = pins_;
   while (time_ < t1 - 1e-12 * dt) {
     const double h = std::min(explicitTimeStep(), t1 - time_);
     const double f = (time_ + h - t0) / dt;
-    for (int p = 0; p < numVertices(); ++p)
-      if (pinned_[p]) target_[p] = from[p] + (to[p] - from[p]) * f;
+    held.forEachPinned([&](int p) { pins_.pin(p, from[p] + (held.target(p) - from[p]) * f); });
     advance(h, false);
   }
-  target_ = to;
+  pins_ = held;
 }
 
 void HybridShellDynamics::advance(double dt, bool implicit) {
   // Pins carry their control points to the target at constant velocity over this step.
-  for (int p = 0; p < numVertices(); ++p)
-    if (pinned_[p]) {
-      step_start_velocity_[p] = control_.v[p];
-      control_.v[p] = (target_[p] - control_.x[p]) / dt;
-    }
+  pins_.forEachPinned([&](int p) {
+    step_start_velocity_[p] = control_.v[p];
+    control_.v[p] = (pins_.target(p) - control_.x[p]) / dt;
+  });
   {
     StageTimer t(times_.transfer_to_grid);
     transferToGrid();
@@ -264,8 +262,7 @@ void HybridShellDynamics::advance(double dt, bool implicit) {
 // is the two-way coupling.
 void HybridShellDynamics::transferToGrid() {
   transfer_mass_ = control_.mass;
-  for (int p = 0; p < numVertices(); ++p)
-    if (pinned_[p]) transfer_mass_[p] = 0.0;
+  pins_.forEachPinned([&](int p) { transfer_mass_[p] = 0.0; });
   std::swap(control_.mass, transfer_mass_);  // the transfer reads the particles' mass field
   mpm::particleToGrid({&control_, &contact_.p, &solid_}, grid_, settings_.kernel_degree,
                       &supports_);
@@ -306,8 +303,8 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   for (const auto& f : local)
     for (int p = 0; p < nc; ++p) control_force_[p] += f[p];
   grid_force_ = control_force_;
-  for (int p = 0; p < nc; ++p)
-    if (pinned_[p]) grid_force_[p].setZero();  // held by its pin instead (transferToGrid)
+  // Pinned points are held by their pins instead (transferToGrid).
+  pins_.forEachPinned([&](int p) { grid_force_[p].setZero(); });
   mpm::scatterPointForces(grid_, control_.x, grid_force_, settings_.kernel_degree, &supports_[0]);
   mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
                           settings_.kernel_degree, &supports_[1]);
@@ -326,8 +323,8 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
                             nullptr);
   trial_control_.resize(numVertices());
   for (int p = 0; p < numVertices(); ++p) {
-    if (pinned_[p]) {
-      trial_control_[p] = target_[p];
+    if (pins_.isPinned(p)) {
+      trial_control_[p] = pins_.target(p);
       continue;
     }
     trial_control_[p] = control_.x[p] + dt * trial_shift_[p];
@@ -456,12 +453,12 @@ void HybridShellDynamics::transferToParticles(double dt) {
 // fibres (5.44).
 void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
   for (int p = 0; p < numVertices(); ++p) {
-    if (pinned_[p]) {
+    if (pins_.isPinned(p)) {
       // Back to the pin's motion (G2P gave it the grid's velocity); the support supplies
       // m a - f - m g with f the shell's force on the point at the start of the step.
       const Vec3 x_start = control_.x[p] - dt * control_.v[p];
-      control_.v[p] = (target_[p] - x_start) / dt;
-      control_.x[p] = target_[p];
+      control_.v[p] = (pins_.target(p) - x_start) / dt;
+      control_.x[p] = pins_.target(p);
       pin_force_[p] =
           control_.mass[p] * ((control_.v[p] - step_start_velocity_[p]) / dt - gravity_) -
           control_force_[p];
@@ -608,40 +605,24 @@ void HybridShellDynamics::setColliders(const RigidSurfaces& colliders,
   grid_colliders_ = std::move(grid_colliders);
 }
 
-void HybridShellDynamics::checkVertex(int vertex) const {
-  if (vertex < 0 || vertex >= numVertices())
-    throw InputError("hybrid shell: control point " + std::to_string(vertex) + " out of range (" +
-                     std::to_string(numVertices()) + " control points)");
-}
-
 void HybridShellDynamics::pin(int vertex) {
-  checkVertex(vertex);
-  pin(vertex, control_.x[vertex]);
+  pins_.pinInPlace(vertex, control_.x);
 }
 
 void HybridShellDynamics::pin(int vertex, const Vec3& target) {
-  checkVertex(vertex);
-  if (!target.allFinite()) throw InputError("hybrid shell: pin target is not finite");
-  pinned_[vertex] = 1;
-  target_[vertex] = target;
+  pins_.pin(vertex, target);
 }
 
 void HybridShellDynamics::unpin(int vertex) {
-  checkVertex(vertex);
-  pinned_[vertex] = 0;
+  pins_.unpin(vertex);
   pin_force_[vertex].setZero();
 }
 
 std::vector<Vec3> HybridShellDynamics::holdingForces(const std::vector<int>& vertices,
                                                      const std::vector<Vec3>& accelerations) const {
-  if (!accelerations.empty() && accelerations.size() != vertices.size())
-    throw InputError("holding forces: " + std::to_string(accelerations.size()) +
-                     " accelerations for " + std::to_string(vertices.size()) + " vertices");
+  pins_.checkHoldingRequest(vertices, accelerations);
   std::vector<Vec3> r;
-  for (int v : vertices) {
-    checkVertex(v);
-    r.push_back(pin_force_[v]);
-  }
+  for (int v : vertices) r.push_back(pin_force_[v]);
   return r;
 }
 

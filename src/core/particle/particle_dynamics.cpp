@@ -36,6 +36,7 @@ ParticleDynamics::ParticleDynamics(const DrapeProblem& problem,
                settings.network),
       loads_(problem, network_),
       surfaces_(problem.colliders),
+      pins_({"particle dynamics", "vertex", "vertices"}, problem.mesh.vertices),
       quads_(problem.mesh.quads),
       x_(problem.mesh.vertices) {
   const int n = numVertices();
@@ -44,16 +45,8 @@ ParticleDynamics::ParticleDynamics(const DrapeProblem& problem,
   v_.assign(n, Vec3::Zero());
   mask_.assign(n, Vec3::Ones());
   for (const auto& f : problem.bc.fixed_components) mask_[f.vertex][f.axis] = 0.0;
-  pinned_.assign(n, 0);
-  target_ = x_;
-  for (int v : problem.bc.clamped) pinned_[v] = 1;
-  for (int v : problem.bc.pinned) pinned_[v] = 1;
-}
-
-void ParticleDynamics::checkVertex(int vertex) const {
-  if (vertex < 0 || vertex >= numVertices())
-    throw InputError("particle dynamics: vertex " + std::to_string(vertex) + " out of range (" +
-                     std::to_string(numVertices()) + " vertices)");
+  for (int v : problem.bc.clamped) pins_.pinInPlace(v, x_);
+  for (int v : problem.bc.pinned) pins_.pinInPlace(v, x_);
 }
 
 void ParticleDynamics::setColliders(const RigidSurfaces& colliders,
@@ -90,20 +83,15 @@ void ParticleDynamics::setVelocities(const std::vector<Vec3>& v) {
 }
 
 void ParticleDynamics::pin(int vertex) {
-  checkVertex(vertex);
-  pin(vertex, x_[vertex]);
+  pins_.pinInPlace(vertex, x_);
 }
 
 void ParticleDynamics::pin(int vertex, const Vec3& target) {
-  checkVertex(vertex);
-  if (!target.allFinite()) throw InputError("particle dynamics: pin target is not finite");
-  pinned_[vertex] = 1;
-  target_[vertex] = target;
+  pins_.pin(vertex, target);
 }
 
 void ParticleDynamics::unpin(int vertex) {
-  checkVertex(vertex);
-  pinned_[vertex] = 0;
+  pins_.unpin(vertex);
 }
 
 void ParticleDynamics::acceleration(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
@@ -121,9 +109,9 @@ void ParticleDynamics::acceleration(const std::vector<Vec3>& x, const std::vecto
     if (s >= 0) {
       const Vec3 r = cancelInwardComponent(normal, a[i]);
       if (reactions && r.squaredNorm() > 0.0) reactions->push_back({i, s, r});
-      if (pushed && !pinned_[i]) (*pushed)[i] = r.norm() / m[i];
+      if (pushed && !pins_.isPinned(i)) (*pushed)[i] = r.norm() / m[i];
     }
-    a[i] = pinned_[i] ? Vec3::Zero() : Vec3(a[i].cwiseProduct(mask_[i]) / m[i]);
+    a[i] = pins_.isPinned(i) ? Vec3::Zero() : Vec3(a[i].cwiseProduct(mask_[i]) / m[i]);
   }
 }
 
@@ -133,10 +121,9 @@ void ParticleDynamics::step(double dt) {
   const int n = numVertices();
   // A pinned vertex travels to its target at constant velocity during the step.
   std::vector<Vec3> pin_velocity(n, Vec3::Zero());
-  for (int i = 0; i < n; ++i)
-    if (pinned_[i]) pin_velocity[i] = (target_[i] - x_[i]) / dt;
+  pins_.forEachPinned([&](int i) { pin_velocity[i] = (pins_.target(i) - x_[i]) / dt; });
   auto velocity = [&](const std::vector<Vec3>& v, int i) {
-    return pinned_[i] ? pin_velocity[i] : Vec3(v[i].cwiseProduct(mask_[i]));
+    return pins_.isPinned(i) ? pin_velocity[i] : Vec3(v[i].cwiseProduct(mask_[i]));
   };
 
   // Classical RK4 on (x, v), seed 000 eq. (50).
@@ -165,8 +152,8 @@ void ParticleDynamics::step(double dt) {
   for (int i = 0; i < n; ++i) {
     x_[i] += dt / 6.0 * (v1[i] + 2.0 * v2[i] + 2.0 * v3[i] + v4[i]);
     v_[i] += dt / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]);
-    if (pinned_[i]) {
-      x_[i] = target_[i];
+    if (pins_.isPinned(i)) {
+      x_[i] = pins_.target(i);
       v_[i] = pin_velocity[i];
       continue;
     }
@@ -223,7 +210,10 @@ double ParticleDynamics::stableTimeStep() const {
   const auto bound = network_.stiffnessBound();
   double w2 = 0.0;
   for (int i = 0; i < numVertices(); ++i) w2 = std::max(w2, bound[i] / masses()[i]);
-  return w2 > 0.0 ? 2.0 / std::sqrt(w2) : std::numeric_limits<double>::infinity();
+  // 2 / omega_max keeps omega dt inside RK4's stability interval (|omega dt| < 2.8) for the
+  // undamped network at its reference stiffness; half of it leaves a margin for the stiffening
+  // of contact and large stretch, which the bound does not see.
+  return w2 > 0.0 ? 0.5 * 2.0 / std::sqrt(w2) : std::numeric_limits<double>::infinity();
 }
 
 std::vector<Vec3> ParticleDynamics::appliedForces() const {
@@ -251,10 +241,7 @@ struct ParticleSnapshot : DynamicsSnapshot {
 
 std::vector<Eigen::Vector3d> ParticleDynamics::holdingForces(
     const std::vector<int>& vertices, const std::vector<Eigen::Vector3d>& accelerations) const {
-  if (!accelerations.empty() && accelerations.size() != vertices.size())
-    throw InputError("holding forces: " + std::to_string(accelerations.size()) +
-                     " accelerations for " + std::to_string(vertices.size()) + " vertices");
-  for (int v : vertices) checkVertex(v);
+  pins_.checkHoldingRequest(vertices, accelerations);
   // All applied forces are evaluated for a few held vertices: cheap next to a step (4 of them).
   const std::vector<Eigen::Vector3d> f = appliedForces();
   std::vector<Eigen::Vector3d> r(vertices.size());

@@ -8,6 +8,7 @@
 
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
+#include "cloth_hair_sim/core/dynamics/pin_set.h"
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 #include "cloth_hair_sim/core/mpm/hencky_solid.h"
 #include "cloth_hair_sim/core/mpm/mpm_particles.h"
@@ -127,7 +128,7 @@ class HybridShellDynamics : public ClothDynamics {
   void pin(int vertex) override;
   void pin(int vertex, const Eigen::Vector3d& target) override;
   void unpin(int vertex) override;
-  bool isPinned(int vertex) const override { return pinned_.at(vertex) != 0; }
+  bool isPinned(int vertex) const override { return pins_.isPinned(vertex); }
   // Support force on each held control point in the last step, m a - f - m g with f the
   // shell's force on it: the prescribed acceleration is already in it (accelerations are
   // checked for size only).
@@ -193,7 +194,6 @@ class HybridShellDynamics : public ClothDynamics {
   void transferToParticles(double dt);
   void updatePositionsAndTrialState(double dt);
   void updatePlasticity();
-  void checkVertex(int vertex) const;
 
   HybridShellSettings settings_;
   double thickness_ = 0.0, areal_density_ = 0.0, young_ = 0.0, poisson_ = 0.0;
@@ -231,8 +231,7 @@ class HybridShellDynamics : public ClothDynamics {
 
   std::vector<Eigen::Vector3d> free_axes_;  // 1 where an axis is free, 0 where bc fixes it
   std::vector<Eigen::Vector3d> reference_;  // where fixed components are held
-  std::vector<char> pinned_;
-  std::vector<Eigen::Vector3d> target_;
+  PinSet pins_;
   std::vector<Eigen::Vector3d> pin_force_;  // support force on each control point, last step
   std::vector<Eigen::Vector3d> step_start_velocity_;  // of pinned points, for their acceleration
 

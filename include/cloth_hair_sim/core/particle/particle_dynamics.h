@@ -6,6 +6,7 @@
 
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
+#include "cloth_hair_sim/core/dynamics/pin_set.h"
 #include "cloth_hair_sim/core/particle/particle_loads.h"
 #include "cloth_hair_sim/core/particle/particle_network.h"
 
@@ -60,7 +61,7 @@ class ParticleDynamics : public ClothDynamics {
   void pin(int vertex) override;                                 // at its current position
   void pin(int vertex, const Eigen::Vector3d& target) override;  // or move it to target
   void unpin(int vertex) override;
-  bool isPinned(int vertex) const override { return pinned_.at(vertex) != 0; }
+  bool isPinned(int vertex) const override { return pins_.isPinned(vertex); }
 
   const std::vector<double>& masses() const override { return loads_.masses(); }
   double kineticEnergy() const override;
@@ -68,8 +69,9 @@ class ParticleDynamics : public ClothDynamics {
   double externalPotential() const { return loads_.potential(x_); }  // gravity, nodal forces
   double potentialEnergy() const { return elasticEnergy() + externalPotential(); }
   Eigen::Vector3d centreOfMass() const;
-  // 2 / omega_max with omega_max^2 bounded by the largest stiffness bound / mass: inside RK4's
-  // stability interval (|omega dt| < 2.8) for the undamped network.
+  // 1 / omega_max, omega_max^2 bounded by the largest stiffness bound / mass: half of the step
+  // 2 / omega_max that stays inside RK4's stability interval (|omega dt| < 2.8) for the undamped
+  // network, the other half a margin for contact stiffening.
   double stableTimeStep() const override;
   // Forces the obstacles exert on the nodes now touching them.
   std::vector<ContactReaction> contactReactions() const;
@@ -90,7 +92,6 @@ class ParticleDynamics : public ClothDynamics {
   void acceleration(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
                     std::vector<Eigen::Vector3d>& a, std::vector<ContactReaction>* reactions,
                     std::vector<double>* pushed = nullptr) const;
-  void checkVertex(int vertex) const;
 
   ParticleDynamicsSettings settings_;
   ParticleNetwork network_;
@@ -100,8 +101,7 @@ class ParticleDynamics : public ClothDynamics {
   std::vector<double> surface_friction_;             // empty: settings_.friction
   double contact_tolerance_ = 0.0;
   std::vector<Eigen::Vector3d> mask_;  // 1 where an axis is free
-  std::vector<char> pinned_;
-  std::vector<Eigen::Vector3d> target_;
+  PinSet pins_;
   std::vector<std::array<int, 4>> quads_;  // for display
   std::vector<Eigen::Vector3d> x_, v_;
   double time_ = 0.0;

@@ -1,0 +1,43 @@
+#include "cloth_hair_sim/core/dynamics/pin_set.h"
+
+#include <utility>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+
+namespace chs {
+
+PinSet::PinSet(Names names, std::vector<Eigen::Vector3d> positions)
+    : names_(std::move(names)), pinned_(positions.size(), 0), targets_(std::move(positions)) {}
+
+void PinSet::check(int vertex) const {
+  if (vertex < 0 || vertex >= size())
+    throw InputError(names_.backend + ": " + names_.vertex + " " + std::to_string(vertex) +
+                     " out of range (" + std::to_string(size()) + " " + names_.vertices + ")");
+}
+
+void PinSet::checkHoldingRequest(const std::vector<int>& vertices,
+                                 const std::vector<Eigen::Vector3d>& accelerations) const {
+  if (!accelerations.empty() && accelerations.size() != vertices.size())
+    throw InputError("holding forces: " + std::to_string(accelerations.size()) +
+                     " accelerations for " + std::to_string(vertices.size()) + " vertices");
+  for (int v : vertices) check(v);
+}
+
+void PinSet::pinInPlace(int vertex, const std::vector<Eigen::Vector3d>& positions) {
+  check(vertex);
+  pin(vertex, positions[vertex]);
+}
+
+void PinSet::pin(int vertex, const Eigen::Vector3d& target) {
+  check(vertex);
+  if (!target.allFinite()) throw InputError(names_.backend + ": pin target is not finite");
+  pinned_[vertex] = 1;
+  targets_[vertex] = target;
+}
+
+void PinSet::unpin(int vertex) {
+  check(vertex);
+  pinned_[vertex] = 0;
+}
+
+}  // namespace chs
