@@ -12,20 +12,12 @@
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_test_material.h"
 
 namespace chs {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
-
-ShellMaterial cloth(double young = 2e5, double thickness = 5e-4) {
-  ShellMaterial m;
-  m.young = young;
-  m.poisson = 0.3;
-  m.thickness = thickness;
-  m.areal_density = 0.2;
-  return m;
-}
 
 // Runs until time t with steps of at most the stable one.
 void runFor(HybridShellDynamics& d, double t) {
@@ -41,7 +33,7 @@ TEST(HybridShell, MomentumConservedInFreeFlight) {
     DrapeProblem p;
     p.mesh = makeRectangleMesh(0.1, 0.1, 6, 6);
     for (auto& x : p.mesh.vertices) x.z() = 2.0 * x.x() * x.x();
-    p.material = cloth();
+    p.material = testCloth();
     p.gravity.setZero();
     HybridShellSettings s;
     s.contact_mass_fraction = fraction;
@@ -69,7 +61,7 @@ TEST(HybridShell, MomentumConservedInFreeFlight) {
 TEST(HybridShell, FreeFallAcceleratesAtG) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.1, 0.1, 5, 5);
-  p.material = cloth();
+  p.material = testCloth();
   HybridShellDynamics d(p);
   runFor(d, 0.05);
   const Vec3 v = d.linearMomentum() / d.totalMass();
@@ -85,7 +77,7 @@ TEST(HybridShell, HangingSheetPinsCarryTheWeight) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.1, 0.1, 8, 8);
   for (auto& x : p.mesh.vertices) x = Vec3(x.x(), 0.0, x.y());  // vertical, in the x-z plane
-  p.material = cloth();
+  p.material = testCloth();
   std::vector<int> top;
   for (int i = 0; i <= 8; ++i) top.push_back(8 * 9 + i);
   p.bc.pinned = top;
@@ -113,7 +105,7 @@ TEST(HybridShell, HangingSheetPinsCarryTheWeight) {
 TEST(HybridShell, RejectsNonsense) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.1, 0.1, 2, 2);
-  p.material = cloth();
+  p.material = testCloth();
   HybridShellSettings s;
   s.kernel_degree = 4;
   EXPECT_THROW((HybridShellDynamics{p, s}), InputError);
@@ -125,7 +117,7 @@ TEST(HybridShell, RejectsNonsense) {
   EXPECT_THROW((HybridShellDynamics{p, s}), InputError);
   p.material.areal_density = 0.0;
   EXPECT_THROW(HybridShellDynamics{p}, InputError);
-  p.material = cloth();
+  p.material = testCloth();
   HybridShellDynamics d(p);
   EXPECT_THROW(d.step(-1.0), InputError);
   EXPECT_THROW(d.pin(99), InputError);

@@ -10,20 +10,12 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_test_material.h"
 
 namespace chs {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
-
-ShellMaterial cloth() {
-  ShellMaterial m;
-  m.young = 2e5;
-  m.poisson = 0.3;
-  m.thickness = 5e-4;
-  m.areal_density = 0.2;
-  return m;
-}
 
 HybridShellSettings backwardEuler(double dt) {
   HybridShellSettings s;
@@ -42,7 +34,7 @@ struct HeldSheet {
     problem.mesh = makeRectangleMesh(0.1, 0.1, n, n);
     if (vertical)
       for (auto& x : problem.mesh.vertices) x = Vec3(x.x(), 0.0, x.y());
-    problem.material = cloth();
+    problem.material = testCloth();
     for (int i = 0; i <= n; ++i) top.push_back(n * (n + 1) + i);
     problem.bc.pinned = top;
   }
@@ -167,7 +159,7 @@ TEST(HybridShellImplicit, UnconvergedStepsAreRedoneExplicitly) {
 TEST(HybridShellImplicit, FreeFallIsExact) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.1, 0.1, 4, 4);
-  p.material = cloth();
+  p.material = testCloth();
   const double dt = 1.0 / 240.0;
   HybridShellDynamics d(p, backwardEuler(dt));
   const int n = 48;
@@ -186,7 +178,7 @@ TEST(HybridShellImplicit, LinearMomentumConservedToTheSolveTolerance) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.1, 0.1, 6, 6);
   for (auto& x : p.mesh.vertices) x.z() = 2.0 * x.x() * x.x();
-  p.material = cloth();
+  p.material = testCloth();
   p.gravity.setZero();
   HybridShellSettings s = backwardEuler(1.0 / 240.0);
   HybridShellDynamics d(p, s);
@@ -210,7 +202,7 @@ TEST(HybridShellImplicit, LinearMomentumConservedToTheSolveTolerance) {
 TEST(HybridShellImplicit, RejectsNonsense) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.1, 0.1, 2, 2);
-  p.material = cloth();
+  p.material = testCloth();
   HybridShellSettings s = backwardEuler(0.0);
   EXPECT_THROW((HybridShellDynamics{p, s}), InputError);
   s = backwardEuler(0.01);

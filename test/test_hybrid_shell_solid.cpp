@@ -12,20 +12,12 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_test_material.h"
 
 namespace chs {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
-
-ShellMaterial cloth() {
-  ShellMaterial m;
-  m.young = 2e5;
-  m.poisson = 0.3;
-  m.thickness = 5e-4;
-  m.areal_density = 0.2;
-  return m;
-}
 
 // Particles filling the box [lo, hi], `per_cell` per grid cell and axis, at density rho and
 // velocity v.
@@ -59,7 +51,7 @@ TEST(HybridShellSolid, CollisionConservesMomentum) {
   const double dx = 0.01;
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.08, 0.08, 8, 8, Vec3(0.003, -0.002, 0.0013));
-  p.material = cloth();
+  p.material = testCloth();
   p.gravity.setZero();
   HybridShellSettings s;
   s.grid_spacing = dx;
@@ -99,7 +91,7 @@ struct Trampoline {
   Trampoline() {
     const int n = 10;
     problem.mesh = makeRectangleMesh(0.1, 0.1, n, n);
-    problem.material = cloth();
+    problem.material = testCloth();
     for (int j = 0; j <= n; ++j)
       for (int i : {0, n}) pins.push_back(j * (n + 1) + i);
     problem.bc.pinned = pins;

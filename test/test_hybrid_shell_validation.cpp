@@ -16,6 +16,7 @@
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_test_material.h"
 
 namespace chs {
 namespace {
@@ -37,15 +38,6 @@ class WallClock {
   const char* name_;
   std::chrono::steady_clock::time_point start_;
 };
-
-ShellMaterial material(double young, double thickness, double areal_density) {
-  ShellMaterial m;
-  m.young = young;
-  m.poisson = 0.3;
-  m.thickness = thickness;
-  m.areal_density = areal_density;
-  return m;
-}
 
 // Steps of at most the stable one up to time t; after each step calls `each` (if given).
 void runUntil(HybridShellDynamics& d, double t, const std::function<void()>& each = {}) {
@@ -84,7 +76,7 @@ constexpr int kBeamNx = 8, kBeamNy = 2;
 DrapeProblem cantilever(double thickness, double length, int nx, int ny) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(length, kBeamW, nx, ny, Vec3(0.5 * length, 0.0, 0.0));
-  p.material = material(kBeamE, thickness, kBeamRho);
+  p.material = testCloth(kBeamE, thickness, kBeamRho);
   p.gravity = Vec3(0.0, 0.0, -kG);
   return p;
 }
@@ -192,7 +184,7 @@ InclineRun slideOnIncline(double theta, double mu, double t_end) {
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.04, 0.04, 4, 4);
   for (Vec3& x : p.mesh.vertices) x = R * x;  // lying on the plane through the origin
-  p.material = material(2e5, 5e-4, 0.2);
+  p.material = testCloth(2e5, 5e-4, 0.2);
   p.gravity = Vec3(0.0, 0.0, -kG);
   HybridShellDynamics d(p);
   d.setColliders({std::make_shared<PlaneSurface>(Vec3::Zero(), normal)}, {}, {mu});
@@ -293,7 +285,7 @@ TEST(HybridShellValidation, ClothOnSphereDoesNotPenetrate) {
   constexpr double R = 0.03;
   DrapeProblem p;
   p.mesh = makeRectangleMesh(0.08, 0.08, 8, 8, Vec3(0.0, 0.0, R + 0.005));
-  p.material = material(2e5, 5e-4, 0.2);
+  p.material = testCloth(2e5, 5e-4, 0.2);
   p.gravity = Vec3(0.0, 0.0, -kG);
   HybridShellSettings s;
   s.friction = 0.3;
@@ -342,7 +334,7 @@ std::size_t twistTube(double turns, double shortening, int n, int m) {
   constexpr double R = 0.02, H = 0.08, T = 0.2, t_end = T + 0.05;
   DrapeProblem p;
   p.mesh = cylinderMesh(R, H, n, m);
-  p.material = material(2e5, 5e-4, 0.2);
+  p.material = testCloth(2e5, 5e-4, 0.2);
   p.gravity.setZero();
   std::vector<int> bottom, top;
   for (int k = 0; k < n; ++k) {
