@@ -306,8 +306,40 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   // Pinned points are held by their pins instead (transferToGrid).
   pins_.forEachPinned([&](int p) { grid_force_[p].setZero(); });
   mpm::scatterPointForces(grid_, control_.x, grid_force_, settings_.kernel_degree, &supports_[0]);
+  // The fibres move with S v (carriedVelocity), so their force f reaches the grid as the
+  // transpose, P(f / m): the pair stays the gradient of one contact energy.
+  std::swap(grid_.force, shell_node_force_);
+  grid_.force.assign(grid_.size(), Vec3::Zero());
   mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
                           settings_.kernel_degree, &supports_[1]);
+  for (int i = 0; i < grid_.size(); ++i)
+    grid_.force[i] = grid_.mass[i] > 0.0 ? Vec3(grid_.force[i] / grid_.mass[i]) : Vec3::Zero();
+  mpm::projectThroughParticles(grid_, massCarriers(), settings_.kernel_degree, grid_.force,
+                               projected_);
+  for (int i = 0; i < grid_.size(); ++i) grid_.force[i] = shell_node_force_[i] + projected_[i];
+}
+
+std::vector<mpm::MassCarriers> HybridShellDynamics::massCarriers() const {
+  return {{&control_.x, &transfer_mass_, &supports_[0]},
+          {&contact_.p.x, &contact_.p.mass, &supports_[1]},
+          {&solid_.x, &solid_.mass, &supports_[2]}};
+}
+
+// The contact particles carry no mass by default, so a node in a contact particle's support may
+// carry almost none: one that a control point's kernel barely reaches. The fibre force through
+// the contact particle's full weight gradient then gives it dt f / m without bound as m -> 0
+// (the twisted tube and the walker's hem diverged within one step, 5e4 m/s at a node of 6e-13
+// times the largest mass). The fibres (5.44) therefore move with what the mass-carrying
+// particles can hold of the grid velocity, S v = P(v) / m: the grid velocity at the nodes that
+// carry mass, averaged by the particles' APIC transfers (affine fields pass unchanged), as MUSL
+// remaps particle momentum for small-mass nodes.
+void HybridShellDynamics::carriedVelocity(const std::vector<Vec3>& node_velocity,
+                                          std::vector<Vec3>& carried) {
+  mpm::projectThroughParticles(grid_, massCarriers(), settings_.kernel_degree, node_velocity,
+                               projected_);
+  carried.resize(grid_.size());
+  for (int i = 0; i < grid_.size(); ++i)
+    carried[i] = grid_.mass[i] > 0.0 ? Vec3(projected_[i] / grid_.mass[i]) : Vec3::Zero();
 }
 
 // Han (3.9) with x* = x_i + dt v_i: control points at x_p + dt sum_i w_ip v_i (5.45) (pins at
@@ -331,15 +363,16 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
     for (int a = 0; a < 3; ++a)
       if (free_axes_[p][a] == 0.0) trial_control_[p][a] = reference_[p][a];
   }
-  mpm::interpolateNodeField(grid_, node_velocity, contact_.p.x, deg, supports_[1], nullptr,
-                            &trial_gradient_);
+  carriedVelocity(node_velocity, fibre_velocity_);
+  mpm::interpolateNodeField(grid_, fibre_velocity_, contact_.p.x, deg, supports_[1], nullptr,
+                            &fibre_gradient_);
   trial_fibre_.resize(contact_.size());
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     const Vec3& a = contact_.fibre[p];
     Vec3 a1, a2;
     tangents(contact_.stencil[p], trial_control_, a1, a2);
     trial_fibre_[p] =
-        projectContactFibre(a1, a2, a + dt * trial_gradient_[p] * a, contact_material_);
+        projectContactFibre(a1, a2, a + dt * fibre_gradient_[p] * a, contact_material_);
   });
   scatterShellForces(trial_control_, trial_fibre_);
   scatterTrialSolidStress(node_velocity, dt);
@@ -439,14 +472,21 @@ void HybridShellDynamics::solveGridMomentum(double dt) {
 // the grid. F of each shell particle becomes I + dt grad v (5.43)-(5.44), the map of this step;
 // the solid's F accumulates, F <- (I + dt grad v) F (3.17).
 void HybridShellDynamics::transferToParticles(double dt) {
-  for (auto* set : {&control_, &contact_.p})
-    std::fill(set->F.begin(), set->F.end(), Eigen::Matrix3d::Identity());
+  // The fibres' map I + dt grad(S v) (carriedVelocity), taken before the transfers move the
+  // particles off the positions their supports were recorded at.
+  carriedVelocity(grid_.velocity, fibre_velocity_);
+  mpm::interpolateNodeField(grid_, fibre_velocity_, contact_.p.x, settings_.kernel_degree,
+                            supports_[1], nullptr, &fibre_gradient_);
+  std::fill(control_.F.begin(), control_.F.end(), Eigen::Matrix3d::Identity());
   mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[0]);
   mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[1]);
   mpm::gridToParticle(grid_, solid_, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[2]);
+  tbb::parallel_for(0, contact_.size(), [&](int p) {
+    contact_.p.F[p] = Eigen::Matrix3d::Identity() + dt * fibre_gradient_[p];
+  });
 }
 
 // Pins, obstacles for the control points, (5.54) for the contact particles and the trial

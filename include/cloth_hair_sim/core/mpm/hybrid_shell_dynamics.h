@@ -12,6 +12,7 @@
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 #include "cloth_hair_sim/core/mpm/hencky_solid.h"
 #include "cloth_hair_sim/core/mpm/mpm_particles.h"
+#include "cloth_hair_sim/core/mpm/particle_projection.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
 #include "cloth_hair_sim/core/mpm/support_nodes.h"
 #include "cloth_hair_sim/core/shell/contact_potential.h"
@@ -191,6 +192,12 @@ class HybridShellDynamics : public ClothDynamics {
   void scatterShellForces(const std::vector<Eigen::Vector3d>& x_control,
                           const std::vector<Eigen::Vector3d>& fibres);
   void dampGridMomentum(double dt);
+  // The particles that give the grid its mass (control points without the pinned ones, contact
+  // particles if they carry mass, the solid), at the step start.
+  std::vector<mpm::MassCarriers> massCarriers() const;
+  // The velocity field the contact fibres move with: S v = P(v) / m (mpm/particle_projection.h).
+  void carriedVelocity(const std::vector<Eigen::Vector3d>& node_velocity,
+                       std::vector<Eigen::Vector3d>& carried);
   void transferToParticles(double dt);
   void updatePositionsAndTrialState(double dt);
   void updatePlasticity();
@@ -225,6 +232,9 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<Eigen::Vector3d> kl_gradient_;    // dPsi^KL/dx_p
   std::vector<Eigen::Vector3d> grid_force_;     // control_force_ without the pinned points
   std::vector<double> transfer_mass_;           // masses the grid sees (pinned: none)
+  // Fibre velocity field S v, its gradient at the contact particles, and scratch for P(.).
+  std::vector<Eigen::Vector3d> fibre_velocity_, projected_, shell_node_force_;
+  std::vector<Eigen::Matrix3d> fibre_gradient_;
 
   RigidSurfaces surfaces_;
   std::vector<mpm::GridCollider> grid_colliders_;
@@ -235,9 +245,8 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<Eigen::Vector3d> pin_force_;  // support force on each control point, last step
   std::vector<Eigen::Vector3d> step_start_velocity_;  // of pinned points, for their acceleration
 
-  // Backward Euler scratch: trial control positions, contact fibres and velocity gradients.
+  // Backward Euler scratch: trial control positions and contact fibres.
   std::vector<Eigen::Vector3d> trial_control_, trial_shift_, trial_fibre_;
-  std::vector<Eigen::Matrix3d> trial_gradient_;
   std::vector<Eigen::Matrix3d> solid_gradient_, solid_stress_;  // grad v and V^0 P(F*) F^nT
   NewtonKrylovResult last_solve_;
   int implicit_fallbacks_ = 0;
