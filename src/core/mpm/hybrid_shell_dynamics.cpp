@@ -480,8 +480,10 @@ void HybridShellDynamics::transferToParticles(double dt) {
   std::fill(control_.F.begin(), control_.F.end(), Eigen::Matrix3d::Identity());
   mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[0]);
-  mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt,
-                      &supports_[1]);
+  // Massless contact particles need no velocity: (5.54) places them and the fibres take S v.
+  if (settings_.contact_mass_fraction > 0.0)
+    mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt,
+                        &supports_[1]);
   mpm::gridToParticle(grid_, solid_, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[2]);
   tbb::parallel_for(0, contact_.size(), [&](int p) {

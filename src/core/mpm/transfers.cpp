@@ -83,11 +83,12 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
   for (std::size_t s = 0; s < sets.size(); ++s) {
     const Particles& p = *sets[s];
     tbb::parallel_for(0, p.size(), [&](int q) {
+      const double m = p.mass[q];
+      if (m == 0.0) return;  // massless particles (the shell's contact particles) add nothing
       Accumulator& acc = local.local();
       const ParticleStencil<D> st(p.x[q], dx);
       const auto d = nodeOffsets(st, p.x[q], dx);
       const int* nodes = supports[s].of(q);
-      const double m = p.mass[q];
       forSupport<D>([&](int i, int j, int k, int n) {
         const int node = nodes[n];
         const double w = st.weight(i, j, k);
