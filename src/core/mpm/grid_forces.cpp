@@ -5,6 +5,7 @@
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
+#include "cloth_hair_sim/core/mpm/mass_supported_gradient.h"
 
 namespace chs::mpm {
 namespace {
@@ -57,16 +58,22 @@ void scatterPointForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
 void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
                         const std::vector<Eigen::Vector3d>& fibres,
                         const std::vector<Eigen::Vector3d>& t, int degree,
-                        const SupportNodes* support) {
+                        const SupportNodes& support) {
   checkSizes(x.size(), fibres.size(), "fibres");
   checkSizes(x.size(), t.size(), "fibre forces");
-  auto c = [&](int p, const auto& s, int i, int j, int k) -> Eigen::Vector3d {
-    return s.gradient(i, j, k).dot(fibres[p]) * t[p];
-  };
-  if (degree == 2)
-    scatter<2>(grid, x, support, c);
-  else
-    scatter<3>(grid, x, support, c);
+  support.check(static_cast<int>(x.size()), degree);
+  const int nn = grid.size(), np = static_cast<int>(x.size());
+  tbb::enumerable_thread_specific<std::vector<Eigen::Vector3d>> local(
+      [nn] { return std::vector<Eigen::Vector3d>(nn, Eigen::Vector3d::Zero()); });
+  tbb::parallel_for(0, np, [&](int p) {
+    thread_local std::vector<Eigen::Vector3d> g;
+    massSupportedGradients(grid, x[p], degree, support.of(p), g);
+    std::vector<Eigen::Vector3d>& f = local.local();
+    const int* nodes = support.of(p);
+    for (int n = 0; n < support.per_particle; ++n) f[nodes[n]] += g[n].dot(fibres[p]) * t[p];
+  });
+  for (const auto& f : local)
+    for (int i = 0; i < nn; ++i) grid.force[i] += f[i];
 }
 
 void scatterStressForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,

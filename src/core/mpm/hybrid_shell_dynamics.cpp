@@ -19,6 +19,7 @@
 #include "cloth_hair_sim/core/mpm/elastic_solid.h"
 #include "cloth_hair_sim/core/mpm/grid_forces.h"
 #include "cloth_hair_sim/core/mpm/grid_interpolation.h"
+#include "cloth_hair_sim/core/mpm/mass_supported_gradient.h"
 #include "cloth_hair_sim/core/mpm/transfers.h"
 
 namespace chs {
@@ -311,7 +312,7 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   std::swap(grid_.force, shell_node_force_);
   grid_.force.assign(grid_.size(), Vec3::Zero());
   mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
-                          settings_.kernel_degree, &supports_[1]);
+                          settings_.kernel_degree, supports_[1]);
   for (int i = 0; i < grid_.size(); ++i)
     grid_.force[i] = grid_.mass[i] > 0.0 ? Vec3(grid_.force[i] / grid_.mass[i]) : Vec3::Zero();
   mpm::projectThroughParticles(grid_, massCarriers(), settings_.kernel_degree, grid_.force,
@@ -364,8 +365,8 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
       if (free_axes_[p][a] == 0.0) trial_control_[p][a] = reference_[p][a];
   }
   carriedVelocity(node_velocity, fibre_velocity_);
-  mpm::interpolateNodeField(grid_, fibre_velocity_, contact_.p.x, deg, supports_[1], nullptr,
-                            &fibre_gradient_);
+  mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x, deg, supports_[1],
+                                        fibre_gradient_);
   trial_fibre_.resize(contact_.size());
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     const Vec3& a = contact_.fibre[p];
@@ -475,8 +476,8 @@ void HybridShellDynamics::transferToParticles(double dt) {
   // The fibres' map I + dt grad(S v) (carriedVelocity), taken before the transfers move the
   // particles off the positions their supports were recorded at.
   carriedVelocity(grid_.velocity, fibre_velocity_);
-  mpm::interpolateNodeField(grid_, fibre_velocity_, contact_.p.x, settings_.kernel_degree,
-                            supports_[1], nullptr, &fibre_gradient_);
+  mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x,
+                                        settings_.kernel_degree, supports_[1], fibre_gradient_);
   std::fill(control_.F.begin(), control_.F.end(), Eigen::Matrix3d::Identity());
   mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[0]);

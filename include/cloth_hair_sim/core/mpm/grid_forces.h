@@ -19,13 +19,15 @@ void scatterPointForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& po
                         const std::vector<Eigen::Vector3d>& forces, int degree,
                         const SupportNodes* support = nullptr);
 
-// Han (5.49), second term: a material fibre a^tr = (sum_i x_i (x) grad w_ip) a^n (5.44) that the
+// Han (5.49), second term: a material fibre a^tr = (sum_i x_i (x) g_ip) a^n (5.44) that the
 // grid motion stretches. With t_p = -V_p dchi/da (the force conjugate to the fibre), node i
-// receives (grad w_ip . a^n_p) t_p.
+// receives (g_ip . a^n_p) t_p, with g the weight gradients restricted to the nodes that carry
+// mass (mass_supported_gradient.h): the fibres' particles carry none, and a force on a massless
+// node would be lost.
 void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& positions,
                         const std::vector<Eigen::Vector3d>& fibres,
                         const std::vector<Eigen::Vector3d>& fibre_forces, int degree,
-                        const SupportNodes* support = nullptr);
+                        const SupportNodes& support);
 
 // Han (3.9) for a continuum discretised by particles (type (i)): with V_p^0 the initial volume and
 // P(F_p) the first Piola-Kirchhoff stress, -dPsi/dx_i = -sum_p V_p^0 P(F_p) F_p^T grad w_ip.
