@@ -1,5 +1,6 @@
 #include "cloth_hair_sim/core/solver/newton_krylov.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -117,6 +118,9 @@ struct generic_product_impl<chs::detail::JacobianOperator, Rhs, SparseShape, Den
 }  // namespace Eigen::internal
 
 namespace chs {
+namespace {
+constexpr double kLoosestForcing = 0.5;
+}  // namespace
 
 std::string NewtonKrylovResult::describe() const {
   static const char* names[] = {"converged", "iteration limit reached", "line search failed",
@@ -151,6 +155,9 @@ NewtonKrylovResult solveNewtonKrylov(const ResidualFunction& residual,
     return result;
   }
   Eigen::VectorXd dx, x_trial, r_trial;
+  // The forcing term: fixed, or adaptive starting from its loosest value.
+  double eta = s.adaptive_forcing ? kLoosestForcing : s.krylov_tolerance;
+  double previous_residual = result.residual;
   while (true) {
     if (result.residual <= s.tolerance) {
       result.status = NewtonKrylovStatus::kConverged;
@@ -166,7 +173,21 @@ NewtonKrylovResult solveNewtonKrylov(const ResidualFunction& residual,
     Eigen::GMRES<detail::JacobianOperator, detail::InverseDiagonal> gmres;
     gmres.set_restart(s.krylov_restart);
     gmres.setMaxIterations(s.max_krylov_iterations);
-    gmres.setTolerance(s.krylov_tolerance);
+    if (s.adaptive_forcing) {
+      // Eisenstat and Walker's choice 2 (SIAM J. Sci. Comput. 17, 1996): solve loosely while
+      // Newton is far from the root, tighter as it converges, and never beyond what the
+      // tolerance needs.
+      if (result.newton_iterations > 1) {
+        const double ratio = result.residual / previous_residual;
+        const double safeguard = 0.9 * eta * eta;
+        eta = 0.9 * ratio * ratio;
+        if (safeguard > 0.1) eta = std::max(eta, safeguard);
+      }
+      eta = std::clamp(std::max(eta, 0.5 * s.tolerance / result.residual), s.krylov_tolerance,
+                       kLoosestForcing);
+    }
+    previous_residual = result.residual;
+    gmres.setTolerance(eta);
     gmres.compute(jacobian);
     dx = gmres.solve(-r);
     result.krylov_iterations += static_cast<int>(gmres.iterations());

@@ -42,7 +42,8 @@ struct HybridShellSettings {
   // Backward Euler: the longest step stableTimeStep() proposes [s] (the CFL bound shortens it),
   // and the Newton-Krylov solve (solver/newton_krylov.h) of each step. It stops when the
   // mass-weighted RMS of the velocity residual, sqrt(sum |r_i|^2 / m_i / sum m_i) with
-  // r_i = m_i (v_i - v~_i) - dt f_i(x*), is below implicit_tolerance [m/s].
+  // r_i = m_i (v_i - v~_i) - dt f_i(x*), is below implicit_tolerance [m/s]; krylov_tolerance is
+  // the tightest GMRES forcing term (adaptive from 0.5, NewtonKrylovSettings).
   double max_time_step = 1.0 / 240.0;
   double implicit_tolerance = 1e-5;
   int max_newton_iterations = 8;

@@ -13,9 +13,12 @@ struct NewtonKrylovSettings {
   int max_newton_iterations = 10;
   int max_krylov_iterations = 60;  // GMRES iterations per Newton iteration
   int krylov_restart = 30;
-  // GMRES stops at this residual relative to its right-hand side: the forcing term of an
-  // inexact Newton method (an exact linear solve is wasted far from the root).
+  // GMRES stops at eta times its right-hand side: the forcing term of an inexact Newton method
+  // (an exact linear solve is wasted far from the root). Adaptive: Eisenstat and Walker's choice
+  // 2, eta from 0.5 down to krylov_tolerance as Newton converges, and no tighter than the
+  // tolerance needs; otherwise eta = krylov_tolerance throughout.
   double krylov_tolerance = 1e-2;
+  bool adaptive_forcing = true;
   double min_line_search_step = 1.0 / 64.0;
 };
 
