@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
 #include <functional>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -391,7 +391,7 @@ std::size_t twistTube(double turns, double shortening, int n, int m,
 
 // One turn of a 16 x 10 tube (dx ~ 8 mm; the neck pinches to ~2 mm, below a cell), and 1.5 turns
 // with 25 % shortening of a 24 x 16 one (dx ~ 5 mm). A tube too coarse for its twist
-// intersects where the neck pinches (12 x 8 in the hold after one turn in 5 of 6 runs, 16 x 10
+// intersects where the neck pinches (12 x 8 from the end of one turn in 4 of 6 runs, 16 x 10
 // at 1.5 turns: docs/VALIDATION.md); CHS_TUBE="n m turns shortening [backward]" runs any other,
 // with backward Euler if asked.
 TEST(HybridShellValidation, TwistedTubeStaysFreeOfSelfIntersections) {
