@@ -2,7 +2,6 @@
 """rostest (test/ros/implicit_node.test): the node steps a garment with backward Euler
 (~mpm/integration: backward_euler) at substeps of ~dt, far beyond the explicit bound, and reports
 its solves in ~status: the sheet hangs from its pins and comes to rest without rollbacks."""
-import threading
 import time
 import unittest
 
@@ -10,21 +9,12 @@ import rospy
 import rostest
 from cloth_hair_sim.msg import SimStatus
 from cloth_hair_sim.srv import LoadGarment, LoadGarmentRequest
+from latest_message import LatestMessage
 
 
 class ImplicitNode(unittest.TestCase):
     def setUp(self):
-        self.lock = threading.Lock()
-        self.status = None
-        rospy.Subscriber('/sim/status', SimStatus, self.on_status)
-
-    def on_status(self, msg):
-        with self.lock:
-            self.status = msg
-
-    def latest(self):
-        with self.lock:
-            return self.status
+        self.status = LatestMessage('/sim/status', SimStatus)
 
     def test_backward_euler_hangs_a_sheet(self):
         rospy.wait_for_service('/sim/load_garment', timeout=30.0)
@@ -40,7 +30,7 @@ class ImplicitNode(unittest.TestCase):
         deadline = time.time() + 60.0
         status = None
         while time.time() < deadline:
-            status = self.latest()
+            status = self.status.get()
             if status is not None and status.garments == 1 and status.sim_time > 1.0:
                 break
             time.sleep(0.1)

@@ -2,7 +2,6 @@
 """rostest (test/ros/sim_time.test): with use_sim_time the node's simulation follows /clock, not
 the wall clock: 1 s of /clock gives about 1 s of simulation, and nothing moves while /clock
 stands still."""
-import threading
 import time
 import unittest
 
@@ -11,19 +10,14 @@ import rostest
 from rosgraph_msgs.msg import Clock
 from cloth_hair_sim.msg import SimStatus
 from cloth_hair_sim.srv import LoadGarment, LoadGarmentRequest
+from latest_message import LatestMessage
 
 
 class SimTime(unittest.TestCase):
     def setUp(self):
         self.clock = rospy.Publisher('/clock', Clock, queue_size=10)
         self.now = 0.0
-        self.lock = threading.Lock()
-        self.status = None
-        rospy.Subscriber('/sim/status', SimStatus, self.on_status)
-
-    def on_status(self, msg):
-        with self.lock:
-            self.status = msg
+        self.status = LatestMessage('/sim/status', SimStatus)
 
     def tick(self, seconds, step=0.01):
         """Advances /clock by `seconds` in `step` increments, one every 10 ms of wall time."""
@@ -33,8 +27,8 @@ class SimTime(unittest.TestCase):
             time.sleep(0.01)
 
     def sim_time(self):
-        with self.lock:
-            return None if self.status is None else self.status.sim_time
+        status = self.status.get()
+        return None if status is None else status.sim_time
 
     def test_simulation_follows_clock(self):
         # The node waits for /clock before its services and timers run.
@@ -55,9 +49,8 @@ class SimTime(unittest.TestCase):
         self.assertTrue(load(req).success)
         # Until the first status with the garment arrives (subscriptions take a moment).
         for _ in range(200):
-            with self.lock:
-                ready = self.status is not None and self.status.garments == 1
-            if ready:
+            status = self.status.get()
+            if status is not None and status.garments == 1:
                 break
             self.tick(0.01)
         self.tick(0.1)

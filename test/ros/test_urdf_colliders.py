@@ -2,7 +2,6 @@
 """rostest (test/ros/urdf_colliders.test): the mannequin's URDF collision geometry appears as
 colliders of cloth_hair_sim_node, and a collider follows its link when a joint moves."""
 import math
-import threading
 import unittest
 
 import rospy
@@ -10,6 +9,7 @@ import rostest
 from cloth_hair_sim.msg import SimStatus
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker, MarkerArray
+from latest_message import LatestMessage
 
 JOINTS = ['neck', 'shoulder_l', 'shoulder_r', 'elbow_l', 'elbow_r', 'hip_l', 'hip_r', 'knee_l',
           'knee_r']
@@ -24,25 +24,13 @@ FOREARM_CENTRE = 0.12
 
 class Latest(object):
     def __init__(self):
-        self.lock = threading.Lock()
-        self.status = None
-        self.markers = None
-        rospy.Subscriber('/sim/status', SimStatus, self.on_status)
-        rospy.Subscriber('/sim/markers', MarkerArray, self.on_markers)
-
-    def on_status(self, msg):
-        with self.lock:
-            self.status = msg
-
-    def on_markers(self, msg):
-        with self.lock:
-            self.markers = msg
+        self.status = LatestMessage('/sim/status', SimStatus)
+        self.markers = LatestMessage('/sim/markers', MarkerArray)
 
     def wait(self, pred, timeout=15.0):
         end = rospy.get_time() + timeout
         while rospy.get_time() < end and not rospy.is_shutdown():
-            with self.lock:
-                status, markers = self.status, self.markers
+            status, markers = self.status.get(), self.markers.get()
             if status is not None and markers is not None and pred(status, markers):
                 return status, markers
             rospy.sleep(0.05)
