@@ -150,6 +150,17 @@ TEST(HybridShell, RejectsNonsense) {
   EXPECT_THROW(d.step(-1.0), InputError);
   EXPECT_THROW(d.pin(99), InputError);
   EXPECT_THROW(d.setPositions({}), InputError);
+  // A clamp holds an edge: the centre vertex is not on one. Clamped points and their ghosts
+  // (appended after the mesh's 9 vertices) cannot be pinned or released.
+  p.bc.clamped = {4};
+  EXPECT_THROW(HybridShellDynamics{p}, InputError);
+  p.bc.clamped = {0, 3, 6};
+  HybridShellDynamics clamped(p);
+  EXPECT_EQ(clamped.numVertices(), 12);
+  EXPECT_TRUE(clamped.isPinned(3) && clamped.isPinned(10));
+  EXPECT_THROW(clamped.unpin(3), InputError);
+  EXPECT_THROW(clamped.pin(10), InputError);
+  EXPECT_NO_THROW(clamped.pin(1));
 }
 
 }  // namespace

@@ -123,20 +123,23 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
       control_spacing_(meanEdgeLength(problem.mesh)),
       dx_(settings.grid_spacing > 0.0 ? settings.grid_spacing : control_spacing_),
       gravity_(problem.gravity),
-      surface_(std::make_shared<LimitSurface>(problem.mesh)),
+      clamps_(problem.mesh, problem.bc.clamped),
+      surface_(std::make_shared<LimitSurface>(clamps_.extendedMesh())),
       lamina_(problem.material.young, problem.material.poisson, settings.yield_stress),
       kl_points_(buildKirchhoffLovePoints(
-          surface_->numFaces(),
+          clamps_.numMeshFaces(),
           [this](int f, double u, double v) { return surface_->stencil(f, u, v); },
-          problem.mesh.vertices, problem.material.thickness, settings.kirchhoff_love)),
+          clamps_.extendedMesh().vertices, problem.material.thickness, settings.kirchhoff_love)),
       grid_(dx_),
-      pins_({"hybrid shell", "control point", "control points"}, problem.mesh.vertices) {
+      pins_({"hybrid shell", "control point", "control points"}, clamps_.extendedMesh().vertices) {
   contact_material_ = settings.contact;
   if (contact_material_.normal_stiffness <= 0.0) contact_material_.normal_stiffness = young_;
   if (contact_material_.shear_stiffness <= 0.0) contact_material_.shear_stiffness = 0.1 * young_;
   contact_material_.validate();
 
-  const std::vector<Vec3>& x0 = problem.mesh.vertices;
+  // Ghost faces (clamped edges) shape the limit surface but carry no cloth: mass, contact
+  // particles, quadrature points and display come from the mesh's own faces.
+  const std::vector<Vec3>& x0 = clamps_.extendedMesh().vertices;
   const int nc = static_cast<int>(x0.size());
   const double frac = settings.contact_mass_fraction;
   // Type (ii): control points, mass lumped as the integral of rho_A N_p over the limit surface
@@ -144,7 +147,7 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
   std::vector<double> lumped(nc, 0.0);
   const double g = 0.5 / std::sqrt(3.0);  // 2-point Gauss on [0, 1] at 1/2 -+ g
   const int n = settings.contact_particles_per_edge;
-  for (int f = 0; f < surface_->numFaces(); ++f) {
+  for (int f = 0; f < clamps_.numMeshFaces(); ++f) {
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) {
         // Type (iii): one contact particle at the centre of each of n x n sub-cells; the cell's
@@ -177,7 +180,8 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
                        " carries no mass (it influences no part of the limit surface)");
   control_force_.assign(nc, Vec3::Zero());
 
-  const LimitTessellation t = surface_->tessellate(settings.display_segments);
+  const LimitTessellation t =
+      surface_->tessellate(settings.display_segments, clamps_.numMeshFaces());
   for (const SurfacePoint& sp : t.samples)
     display_stencils_.push_back(surface_->stencil(sp.face, sp.u, sp.v));
   display_triangles_ = t.triangles;
@@ -187,7 +191,6 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
   reference_ = x0;
   pin_force_.assign(nc, Vec3::Zero());
   step_start_velocity_.assign(nc, Vec3::Zero());
-  for (int v : problem.bc.clamped) pins_.pinInPlace(v, x0);
   for (int v : problem.bc.pinned) pins_.pinInPlace(v, x0);
   setColliders(problem.colliders);
 }
@@ -226,6 +229,10 @@ void HybridShellDynamics::advance(double dt, bool implicit) {
     step_start_velocity_[p] = control_.v[p];
     control_.v[p] = (pins_.target(p) - control_.x[p]) / dt;
   });
+  for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
+    step_start_velocity_[c.boundary] = control_.v[c.boundary];
+    step_start_velocity_[c.ghost] = control_.v[c.ghost];
+  }
   {
     StageTimer t(times_.transfer_to_grid);
     transferToGrid();
@@ -263,6 +270,11 @@ void HybridShellDynamics::advance(double dt, bool implicit) {
 // is the two-way coupling.
 void HybridShellDynamics::transferToGrid() {
   transfer_mass_ = control_.mass;
+  for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
+    transfer_mass_[c.interior] +=
+        ClampedEdges::carriedMass(control_.mass[c.boundary], control_.mass[c.ghost]);
+    transfer_mass_[c.boundary] = transfer_mass_[c.ghost] = 0.0;
+  }
   pins_.forEachPinned([&](int p) { transfer_mass_[p] = 0.0; });
   std::swap(control_.mass, transfer_mass_);  // the transfer reads the particles' mass field
   mpm::particleToGrid({&control_, &contact_.p, &solid_}, grid_, settings_.kernel_degree,
@@ -304,6 +316,16 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   for (const auto& f : local)
     for (int p = 0; p < nc; ++p) control_force_[p] += f[p];
   grid_force_ = control_force_;
+  // Clamped points and ghosts move with their interior neighbour N: their forces, and the part of
+  // their weight the grid does not already apply to the mass N carries for them, act on N.
+  clamps_.foldForces(grid_force_);
+  for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
+    const double mb = control_.mass[c.boundary], mg = control_.mass[c.ghost];
+    grid_force_[c.interior] += clamps_.foldedForce(c, mb * gravity_, mg * gravity_) -
+                               ClampedEdges::carriedMass(mb, mg) * gravity_;
+    grid_force_[c.boundary].setZero();
+    grid_force_[c.ghost].setZero();
+  }
   // Pinned points are held by their pins instead (transferToGrid).
   pins_.forEachPinned([&](int p) { grid_force_[p].setZero(); });
   mpm::scatterPointForces(grid_, control_.x, grid_force_, settings_.kernel_degree, &supports_[0]);
@@ -364,6 +386,7 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
     for (int a = 0; a < 3; ++a)
       if (free_axes_[p][a] == 0.0) trial_control_[p][a] = reference_[p][a];
   }
+  clamps_.placePositions(trial_control_);
   carriedVelocity(node_velocity, fibre_velocity_);
   mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x, deg, supports_[1],
                                         fibre_gradient_);
@@ -508,6 +531,7 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
       continue;
     }
     pin_force_[p].setZero();
+    if (clamps_.isSlaved(p)) continue;  // placed below, from their interior neighbours
     for (int a = 0; a < 3; ++a)
       if (free_axes_[p][a] == 0.0) {
         control_.x[p][a] = reference_[p][a];
@@ -539,10 +563,25 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
       if (gap < 0.0) control_.x[p] -= gap * pr.normal;
     }
   }
+  placeClamped(dt);
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     contact_.p.x[p] = contact_.stencil[p].position(control_.x);  // (5.54)
     contact_.fibre[p] = contact_.p.F[p] * contact_.fibre[p];     // (5.44)
   });
+}
+
+// Clamped points and ghosts follow their interior neighbours; the clamp's force on each clamped
+// point comes from their residuals m a - f - m g (ClampedEdges::reaction).
+void HybridShellDynamics::placeClamped(double dt) {
+  clamps_.placePositions(control_.x);
+  clamps_.placeVelocities(control_.v);
+  const auto residual = [&](int p) {
+    control_.C[p].setZero();
+    return Vec3(control_.mass[p] * ((control_.v[p] - step_start_velocity_[p]) / dt - gravity_) -
+                control_force_[p]);
+  };
+  for (const ClampedEdges::Clamp& c : clamps_.clamps())
+    pin_force_[c.boundary] = clamps_.reaction(c, residual(c.boundary), residual(c.ghost));
 }
 
 // Section 5.5.5: denting return mapping at the quadrature points, Coulomb return mapping
@@ -591,13 +630,14 @@ void HybridShellDynamics::setPositions(const std::vector<Vec3>& x) {
     throw InputError("hybrid shell: " + std::to_string(x.size()) + " positions for " +
                      std::to_string(numVertices()) + " control points");
   control_.x = x;
+  clamps_.placePositions(control_.x);
   // A placed surface starts out of contact: its fibres are reset to the new normals (kept,
   // a fibre of the old orientation would read a turned garment as sheared through itself).
   for (int p = 0; p < contact_.size(); ++p) {
     const SurfaceStencil& s = contact_.stencil[p];
     Vec3 a1, a2;
-    tangents(s, x, a1, a2);
-    contact_.p.x[p] = s.position(x);
+    tangents(s, control_.x, a1, a2);
+    contact_.p.x[p] = s.position(control_.x);
     contact_.fibre[p] = a1.cross(a2).normalized();
   }
 }
@@ -607,10 +647,11 @@ void HybridShellDynamics::setVelocities(const std::vector<Vec3>& v) {
     throw InputError("hybrid shell: " + std::to_string(v.size()) + " velocities for " +
                      std::to_string(numVertices()) + " control points");
   control_.v = v;
+  clamps_.placeVelocities(control_.v);
   for (auto& C : control_.C) C.setZero();
   // Contact particles take the surface's velocity; their affine part restarts at zero.
   for (int p = 0; p < contact_.size(); ++p) {
-    contact_.p.v[p] = contact_.stencil[p].position(v);
+    contact_.p.v[p] = contact_.stencil[p].position(control_.v);
     contact_.p.C[p].setZero();
   }
 }
@@ -648,15 +689,27 @@ void HybridShellDynamics::setColliders(const RigidSurfaces& colliders,
   grid_colliders_ = std::move(grid_colliders);
 }
 
+void HybridShellDynamics::checkNotClamped(int vertex) const {
+  pins_.check(vertex);
+  if (clamps_.isSlaved(vertex))
+    throw InputError("hybrid shell: control point " + std::to_string(vertex) +
+                     (vertex < clamps_.numMeshVertices() ? " is clamped" : " is a clamp's ghost") +
+                     " (bc.clamped holds it for the garment's life): it cannot be pinned or "
+                     "unpinned");
+}
+
 void HybridShellDynamics::pin(int vertex) {
+  checkNotClamped(vertex);
   pins_.pinInPlace(vertex, control_.x);
 }
 
 void HybridShellDynamics::pin(int vertex, const Vec3& target) {
+  checkNotClamped(vertex);
   pins_.pin(vertex, target);
 }
 
 void HybridShellDynamics::unpin(int vertex) {
+  checkNotClamped(vertex);
   pins_.unpin(vertex);
   pin_force_[vertex].setZero();
 }

@@ -108,11 +108,14 @@ SurfaceStencil LimitSurface::stencil(int face, double u, double v) const {
   return s;
 }
 
-LimitTessellation LimitSurface::tessellate(int segments_per_edge) const {
+LimitTessellation LimitSurface::tessellate(int segments_per_edge, int num_faces) const {
   const int n = segments_per_edge;
   if (n < 1)
     throw InputError("limit surface: tessellation needs at least 1 segment per edge, got " +
                      std::to_string(n));
+  if (num_faces < 0 || num_faces > numFaces())
+    throw InputError("limit surface: cannot tessellate " + std::to_string(num_faces) + " of " +
+                     std::to_string(numFaces()) + " faces");
   LimitTessellation t;
   // Samples shared between faces: corners by control vertex, edge samples by the undirected
   // edge and their step counted from its lower-numbered end.
@@ -123,7 +126,7 @@ LimitTessellation LimitSurface::tessellate(int segments_per_edge) const {
     return static_cast<int>(t.samples.size()) - 1;
   };
 
-  for (int f = 0; f < numFaces(); ++f) {
+  for (int f = 0; f < num_faces; ++f) {
     const auto& c = faces_->quads[f];
     // Grid point (i, j) of this face in the corner / edge frame: corner k sits at
     // (i, j) = n * corner_uv[k]; edge k runs from corner k to corner k + 1.

@@ -19,6 +19,7 @@
 #include "cloth_hair_sim/core/shell/hencky_lamina.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 #include "cloth_hair_sim/core/solver/newton_krylov.h"
+#include "cloth_hair_sim/core/subdiv/clamped_edges.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
 
 namespace chs {
@@ -98,9 +99,12 @@ struct HybridStageTimes {
 class HybridShellDynamics : public ClothDynamics {
  public:
   // Uses the problem's mesh (reference state), material (E, nu, thickness, areal density),
-  // gravity, colliders, pinned/clamped vertices (held where they are) and fixed components
-  // (held at their reference value). All act on the control points. Throws InputError for
-  // a bad mesh, material or setting.
+  // gravity, colliders, pinned vertices (held where they are), clamped vertices (limit
+  // surface position and tangent plane held along their edges, subdiv/clamped_edges.h) and
+  // fixed components (held at their reference value). All act on the control points. A clamp
+  // adds one ghost control point per clamped vertex after the mesh's vertices; clamped points
+  // and ghosts move with their interior neighbours and cannot be pinned or unpinned. Throws
+  // InputError for a bad mesh, material, clamp or setting.
   explicit HybridShellDynamics(const DrapeProblem& problem,
                                const HybridShellSettings& settings = {});
 
@@ -130,10 +134,13 @@ class HybridShellDynamics : public ClothDynamics {
   void pin(int vertex) override;
   void pin(int vertex, const Eigen::Vector3d& target) override;
   void unpin(int vertex) override;
-  bool isPinned(int vertex) const override { return pins_.isPinned(vertex); }
+  bool isPinned(int vertex) const override {
+    return pins_.isPinned(vertex) || clamps_.isSlaved(vertex);
+  }
   // Support force on each held control point in the last step, m a - f - m g with f the
   // shell's force on it: the prescribed acceleration is already in it (accelerations are
-  // checked for size only).
+  // checked for size only). A clamped point reports its clamp's whole force (its ghost's
+  // included; ghosts report zero).
   std::vector<Eigen::Vector3d> holdingForces(
       const std::vector<int>& vertices,
       const std::vector<Eigen::Vector3d>& accelerations = {}) const override;
@@ -199,6 +206,8 @@ class HybridShellDynamics : public ClothDynamics {
   // The velocity field the contact fibres move with: S v = P(v) / m (mpm/particle_projection.h).
   void carriedVelocity(const std::vector<Eigen::Vector3d>& node_velocity,
                        std::vector<Eigen::Vector3d>& carried);
+  void placeClamped(double dt);  // clamped points and ghosts from their interior neighbours
+  void checkNotClamped(int vertex) const;  // InputError for a clamped point or a ghost
   void transferToParticles(double dt);
   void updatePositionsAndTrialState(double dt);
   void updatePlasticity();
@@ -208,6 +217,7 @@ class HybridShellDynamics : public ClothDynamics {
   double control_spacing_ = 0.0;  // mean control edge length
   double dx_ = 0.0;
   Eigen::Vector3d gravity_;
+  ClampedEdges clamps_;  // the control mesh with ghost faces across clamped edges
   std::shared_ptr<const LimitSurface> surface_;
   HenckyLamina lamina_;
   std::vector<KirchhoffLovePoint> kl_points_;  // type (iv)

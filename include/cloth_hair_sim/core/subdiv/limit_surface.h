@@ -76,7 +76,11 @@ class LimitSurface {
   SurfaceStencil stencil(const SurfacePoint& p) const { return stencil(p.face, p.u, p.v); }
 
   // Each face cut into segments_per_edge^2 cells of two triangles each (segments >= 1).
-  LimitTessellation tessellate(int segments_per_edge) const;
+  LimitTessellation tessellate(int segments_per_edge) const {
+    return tessellate(segments_per_edge, numFaces());
+  }
+  // The same over faces [0, num_faces) only (a mesh's own faces before ghost faces).
+  LimitTessellation tessellate(int segments_per_edge, int num_faces) const;
 
  private:
   struct Faces;

@@ -1,0 +1,140 @@
+#include "cloth_hair_sim/core/subdiv/clamped_edges.h"
+
+#include <algorithm>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+
+namespace chs {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+// Undirected edges with the faces on them, and the direction each boundary edge has in its face.
+struct EdgeTable {
+  std::map<std::pair<int, int>, int> faces;     // (min, max) -> number of faces
+  std::map<std::pair<int, int>, bool> forward;  // boundary edge (min, max): face runs min -> max
+  std::vector<std::vector<int>> neighbours;
+
+  explicit EdgeTable(const QuadMesh& mesh) : neighbours(mesh.numVertices()) {
+    for (const auto& q : mesh.quads)
+      for (int k = 0; k < 4; ++k) {
+        const int a = q[k], b = q[(k + 1) % 4];
+        const auto key = std::minmax(a, b);
+        if (faces[key]++ == 0) {
+          neighbours[a].push_back(b);
+          neighbours[b].push_back(a);
+        }
+        forward[key] = a < b;
+      }
+  }
+  bool isBoundary(int a, int b) const { return faces.at(std::minmax(a, b)) == 1; }
+};
+
+std::string vertexName(int v) {
+  return "clamped edges: vertex " + std::to_string(v);
+}
+
+}  // namespace
+
+ClampedEdges::ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped)
+    : extended_(mesh), mesh_vertices_(mesh.numVertices()), mesh_faces_(mesh.numQuads()) {
+  std::vector<int> ghost_of(mesh_vertices_, -1);
+  for (int v : clamped) {
+    if (v < 0 || v >= mesh_vertices_)
+      throw InputError(vertexName(v) + " is out of range (" + std::to_string(mesh_vertices_) +
+                       " vertices)");
+    ghost_of[v] = 0;  // marks "clamped"; ghost indices follow below
+  }
+  if (clamped.empty()) {
+    slaved_.assign(mesh_vertices_, 0);
+    return;
+  }
+  const EdgeTable edges(mesh);
+  for (int v = 0; v < mesh_vertices_; ++v) {
+    if (ghost_of[v] < 0) continue;
+    int interior = -1, free_boundary = -1, interior_count = 0, free_boundary_count = 0;
+    bool on_boundary = false, clamped_neighbour = false;
+    for (int u : edges.neighbours[v]) {
+      const bool boundary = edges.isBoundary(v, u);
+      on_boundary |= boundary;
+      if (boundary && ghost_of[u] >= 0) clamped_neighbour = true;
+      if (!boundary) interior = u, ++interior_count;
+      if (boundary && ghost_of[u] < 0) free_boundary = u, ++free_boundary_count;
+    }
+    if (!on_boundary) throw InputError(vertexName(v) + " is clamped but not on the mesh boundary");
+    if (!clamped_neighbour)
+      throw InputError(vertexName(v) +
+                       " has no clamped neighbour along the boundary: a clamp holds an edge, "
+                       "at least two adjacent boundary vertices");
+    // A boundary vertex of valence 3 has one edge into the shell; a corner (valence 2) has
+    // none, and then the unclamped boundary edge leads into the shell.
+    Clamp c;
+    c.boundary = v;
+    if (interior_count == 1)
+      c.interior = interior;
+    else if (interior_count == 0 && free_boundary_count == 1)
+      c.interior = free_boundary;
+    else
+      throw InputError(vertexName(v) + " has " + std::to_string(interior_count) +
+                       " edges into the shell and " + std::to_string(free_boundary_count) +
+                       " unclamped boundary edges: no unique direction to clamp (two clamped "
+                       "edges meeting at a corner, or an irregular boundary vertex)");
+    c.ghost = extended_.numVertices();
+    c.point = mesh.vertices[v];
+    const Vec3 d = mesh.vertices[c.interior] - c.point;
+    if (!(d.norm() > 0.0)) throw InputError(vertexName(v) + " coincides with its neighbour");
+    c.direction = d.normalized();
+    ghost_of[v] = c.ghost;
+    extended_.vertices.push_back(2.0 * c.point - mesh.vertices[c.interior]);
+    clamps_.push_back(c);
+  }
+  // One ghost face across each clamped boundary edge a -> b (as its face runs), oriented
+  // consistently with it: b -> a -> G_a -> G_b.
+  for (const auto& [key, count] : edges.faces) {
+    const auto [lo, hi] = key;
+    if (count != 1 || ghost_of[lo] < 0 || ghost_of[hi] < 0) continue;
+    const bool forward = edges.forward.at(key);
+    const int a = forward ? lo : hi, b = forward ? hi : lo;
+    extended_.quads.push_back({b, a, ghost_of[a], ghost_of[b]});
+  }
+  slaved_.assign(extended_.numVertices(), 0);
+  for (const Clamp& c : clamps_) slaved_[c.boundary] = slaved_[c.ghost] = 1;
+}
+
+void ClampedEdges::placePositions(std::vector<Vec3>& x) const {
+  for (const Clamp& c : clamps_) {
+    const Vec3 d = x[c.interior] - c.point;
+    const Vec3 along = c.direction * c.direction.dot(d);
+    x[c.ghost] = c.point + d - 2.0 * along;
+    x[c.boundary] = c.point - 0.5 * (d - along);
+  }
+}
+
+void ClampedEdges::placeVelocities(std::vector<Vec3>& v) const {
+  for (const Clamp& c : clamps_) {
+    const Vec3 vn = v[c.interior];
+    const Vec3 along = c.direction * c.direction.dot(vn);
+    v[c.ghost] = vn - 2.0 * along;
+    v[c.boundary] = -0.5 * (vn - along);
+  }
+}
+
+void ClampedEdges::foldForces(std::vector<Vec3>& f) const {
+  for (const Clamp& c : clamps_) f[c.interior] += foldedForce(c, f[c.boundary], f[c.ghost]);
+}
+
+Vec3 ClampedEdges::foldedForce(const Clamp& c, const Vec3& f_boundary, const Vec3& f_ghost) const {
+  const Vec3& t = c.direction;
+  return -0.5 * (f_boundary - t * t.dot(f_boundary)) + f_ghost - 2.0 * t * t.dot(f_ghost);
+}
+
+Vec3 ClampedEdges::reaction(const Clamp& c, const Vec3& r_boundary, const Vec3& r_ghost) const {
+  const Vec3& t = c.direction;
+  // (I + (I - t t^T) / 2) r_B + (I - R) r_G
+  return r_boundary + 0.5 * (r_boundary - t * t.dot(r_boundary)) + 2.0 * t * t.dot(r_ghost);
+}
+
+}  // namespace chs
