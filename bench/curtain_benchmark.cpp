@@ -17,7 +17,8 @@
 // most 1/240 s, CFL-limited; Newton-GMRES totals printed) in the same process, for the ratio.
 //
 //   curtain_benchmark [--scene curtain|walker|both] [--curtain-frames 2] [--walker-frames 12]
-//                     [--integration symplectic|backward|both] [--threads N]
+//                     [--integration symplectic|backward|both] [--threads N] [--kl-order 2]
+// --kl-order sets the Kirchhoff-Love quadrature's in-plane Gauss order (default: the core's).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -166,17 +167,15 @@ void printTiming(const char* name, const Timing& t, int threads) {
 // core; an isotropic lamina with denim's weight and bending stiffness stands in: 0.40 kg/m^2,
 // h = 0.6 mm and E = 2 MPa give D = E h^3 / (12 (1 - nu^2)) = 4.0e-5 N m, i.e. a KES bending
 // rigidity of 0.4 gf cm^2/cm, inside denim's range.
-Timing curtain(int frames, chs::TimeIntegration integration) {
+Timing curtain(int frames, chs::HybridShellSettings s) {
   chs::DrapeProblem p;
   p.mesh = hangingSheet(1.0, 90, 1.5, 0.0, p.bc.pinned);
   p.material.young = 2.0e6;
   p.material.poisson = 0.3;
   p.material.thickness = 0.6e-3;
   p.material.areal_density = 0.40;
-  chs::HybridShellSettings s;
   s.grid_spacing = 0.012;  // Han's dx for this scene
   s.friction = 0.3;
-  s.integration = integration;
   chs::HybridShellDynamics d(p, s);
   // A sphere of R = 0.2 m at the curtain's middle height travels through it at 1 m/s along +y.
   const double radius = 0.2, speed = 1.0;
@@ -198,16 +197,14 @@ Timing curtain(int frames, chs::TimeIntegration integration) {
 
 // A garment of 45 x 45 quads (0.6 m square, cotton) hung from the hips in front of two leg
 // capsules that swing about the hip axis out of phase, as in a walk at one stride per second.
-Timing walker(int frames, chs::TimeIntegration integration) {
+Timing walker(int frames, chs::HybridShellSettings s) {
   const double hip_height = 0.9, leg_length = 0.85, leg_radius = 0.07, hip_half_width = 0.1;
   const double amplitude = 0.4, omega = 2.0 * M_PI;  // [rad], [rad/s]
   chs::DrapeProblem p;
   // The garment hangs 1 cm in front of the legs (the legs' front at y = -leg_radius).
   p.mesh = hangingSheet(0.6, 45, hip_height, -leg_radius - 0.01, p.bc.pinned);
   p.material = *chs::materialPreset("cotton_eischen");
-  chs::HybridShellSettings s;
   s.friction = 0.3;
-  s.integration = integration;
   chs::HybridShellDynamics d(p, s);
   const Choreography legs = [=](double t) {
     ObstaclePose pose;
@@ -238,6 +235,7 @@ Timing walker(int frames, chs::TimeIntegration integration) {
 int main(int argc, char** argv) {
   std::string scene = "both", integration = "symplectic";
   int curtain_frames = 2, walker_frames = 12;
+  chs::HybridShellSettings base;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   CLI::App app{"Hybrid MPM shell timings: Han's denim curtain analogue and a walking garment"};
   app.add_option("--scene", scene, "curtain, walker or both")
@@ -248,6 +246,9 @@ int main(int argc, char** argv) {
   app.add_option("--integration", integration, "symplectic, backward or both")
       ->check(CLI::IsMember({"symplectic", "backward", "both"}));
   app.add_option("--threads", threads, "TBB threads")->check(CLI::PositiveNumber);
+  app.add_option("--kl-order", base.kirchhoff_love.in_plane_order,
+                 "in-plane Gauss points per face edge of the Kirchhoff-Love quadrature")
+      ->check(CLI::Range(2, 4));
   CLI11_PARSE(app, argc, argv);
 
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
@@ -258,9 +259,12 @@ int main(int argc, char** argv) {
   if (integration != "symplectic")
     integrators.push_back({chs::TimeIntegration::kBackwardEuler, "backward Euler"});
   for (const auto& [method, method_name] : integrators) {
-    std::printf("\n=== %s ===\n", method_name);
+    std::printf("\n=== %s, %d x %d Kirchhoff-Love points per face ===\n", method_name,
+                base.kirchhoff_love.in_plane_order, base.kirchhoff_love.in_plane_order);
+    chs::HybridShellSettings settings = base;
+    settings.integration = method;
     if (scene != "walker") {
-      const Timing t = curtain(curtain_frames, method);
+      const Timing t = curtain(curtain_frames, settings);
       printTiming("curtain", t, threads);
       const double core_seconds = t.wall / t.frames * threads;
       std::printf(
@@ -269,7 +273,7 @@ int main(int argc, char** argv) {
           core_seconds <= 1.0 ? "MET" : "MISSED", core_seconds, core_seconds);
     }
     if (scene != "curtain") {
-      const Timing t = walker(walker_frames, method);
+      const Timing t = walker(walker_frames, settings);
       printTiming("walker", t, threads);
       const double rtf = t.simulated / t.wall;
       std::printf(

@@ -2,9 +2,10 @@
 // HybridShellDynamics on a square sheet of n x n quads lying on a sphere, split into the stages
 // of stageTimes(), and the Kirchhoff-Love energy gradient alone (the shell forces' core).
 //
-// Arguments: {quads per side, TBB threads}. Counters are per step: stage times in ms and the cost
-// per particle / per Kirchhoff-Love point in ns of wall time. The step size is the stable one at
-// the start, so every iteration does the same work a drape would.
+// Arguments: {quads per side, TBB threads} and, for the step, the in-plane Gauss order of the
+// Kirchhoff-Love quadrature (KirchhoffLoveQuadrature::in_plane_order). Counters are per step: stage
+// times in ms and the cost per particle / per Kirchhoff-Love point in ns of wall time. The step
+// size is the stable one at the start, so every iteration does the same work a drape would.
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -45,7 +46,9 @@ double perStep(double before, double after, int steps) {
 void hybridStep(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, state.range(1));
-  chs::HybridShellDynamics d(sheetOverSphere(n));
+  chs::HybridShellSettings settings;
+  settings.kirchhoff_love.in_plane_order = static_cast<int>(state.range(2));
+  chs::HybridShellDynamics d(sheetOverSphere(n), settings);
   const double dt = d.stableTimeStep();
   for (int i = 0; i < 20; ++i) d.step(dt);  // the sheet settles onto the sphere
   const chs::HybridStageTimes t0 = d.stageTimes();
@@ -71,8 +74,8 @@ void hybridStep(benchmark::State& state) {
   state.counters["dt_us"] = 1e6 * dt;
 }
 BENCHMARK(hybridStep)
-    ->ArgsProduct({{32, 90}, {1, 2}})
-    ->ArgNames({"quads", "threads"})
+    ->ArgsProduct({{32, 90}, {1, 2}, {2, 3}})
+    ->ArgNames({"quads", "threads", "kl_order"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

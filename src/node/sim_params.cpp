@@ -58,8 +58,10 @@ void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings
         "~mpm/max_krylov_iterations must be positive");
   if (s.kernel_degree != 2 && s.kernel_degree != 3)
     throw chs::InputError("parameter ~mpm/kernel_degree must be 2 or 3");
-  if (s.kirchhoff_love.in_plane_order < 1 || s.kirchhoff_love.in_plane_order > 4)
-    throw chs::InputError("parameter ~mpm/quadrature_per_edge must lie in 1..4");
+  if (s.kirchhoff_love.in_plane_order < 2 || s.kirchhoff_love.in_plane_order > 4)
+    throw chs::InputError(
+        "parameter ~mpm/quadrature_per_edge must lie in 2..4 (1 leaves the shell spurious "
+        "zero-energy modes)");
   if (!(s.cfl > 0.0 && s.safety > 0.0 && s.rpic_damping >= 0.0 && s.rpic_damping <= 1.0))
     throw chs::InputError(
         "parameters ~mpm/cfl and ~mpm/safety must be positive, "
