@@ -147,6 +147,7 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
   std::vector<double> lumped(nc, 0.0);
   const double g = 0.5 / std::sqrt(3.0);  // 2-point Gauss on [0, 1] at 1/2 -+ g
   const int n = settings.contact_particles_per_edge;
+  std::vector<SurfaceStencil> contact_stencils;
   for (int f = 0; f < clamps_.numMeshFaces(); ++f) {
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) {
@@ -169,9 +170,10 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
         contact_.p.add(s.position(x0), Vec3::Zero(), frac * areal_density_ * cell_area,
                        cell_area * thickness_);
         contact_.fibre.push_back(a1.cross(a2).normalized());  // unstressed: a3^E = a3 (5.5)
-        contact_.stencil.push_back(std::move(s));
+        contact_stencils.push_back(std::move(s));
       }
   }
+  contact_.stencil = FirstOrderStencils(contact_stencils);
   contact_.fibre_force.assign(contact_.size(), Vec3::Zero());
   for (int p = 0; p < nc; ++p) control_.add(x0[p], Vec3::Zero(), lumped[p], 0.0);
   for (int p = 0; p < nc; ++p)
@@ -304,13 +306,13 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   tbb::enumerable_thread_specific<std::vector<Vec3>> local(
       [nc] { return std::vector<Vec3>(nc, Vec3::Zero()); });
   tbb::parallel_for(0, contact_.size(), [&](int p) {
-    const SurfaceStencil& s = contact_.stencil[p];
     Vec3 a1, a2;
-    tangents(s, x_control, a1, a2);
+    contact_.stencil.tangents(p, x_control, a1, a2);
     const ContactEnergy e = contactEnergy(a1, a2, fibres[p], contact_material_);
     const double V = contact_.p.volume0[p];
     std::vector<Vec3>& f = local.local();
-    for (int k = 0; k < s.size(); ++k) f[s.points[k]] -= V * (s.du[k] * e.d_a1 + s.dv[k] * e.d_a2);
+    for (auto t = contact_.stencil.begin(p); t != contact_.stencil.end(p); ++t)
+      f[t->point] -= V * (t->du * e.d_a1 + t->dv * e.d_a2);
     contact_.fibre_force[p] = -V * e.d_a3;
   });
   for (const auto& f : local)
@@ -394,7 +396,7 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     const Vec3& a = contact_.fibre[p];
     Vec3 a1, a2;
-    tangents(contact_.stencil[p], trial_control_, a1, a2);
+    contact_.stencil.tangents(p, trial_control_, a1, a2);
     trial_fibre_[p] =
         projectContactFibre(a1, a2, a + dt * fibre_gradient_[p] * a, contact_material_);
   });
@@ -565,7 +567,7 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
   }
   placeClamped(dt);
   tbb::parallel_for(0, contact_.size(), [&](int p) {
-    contact_.p.x[p] = contact_.stencil[p].position(control_.x);  // (5.54)
+    contact_.p.x[p] = contact_.stencil.position(p, control_.x);  // (5.54)
     contact_.fibre[p] = contact_.p.F[p] * contact_.fibre[p];     // (5.44)
   });
 }
@@ -590,7 +592,7 @@ void HybridShellDynamics::updatePlasticity() {
   updateKirchhoffLovePlasticity(kl_points_, lamina_, control_.x);
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     Vec3 a1, a2;
-    tangents(contact_.stencil[p], control_.x, a1, a2);
+    contact_.stencil.tangents(p, control_.x, a1, a2);
     contact_.fibre[p] = projectContactFibre(a1, a2, contact_.fibre[p], contact_material_);
   });
 }
@@ -634,10 +636,9 @@ void HybridShellDynamics::setPositions(const std::vector<Vec3>& x) {
   // A placed surface starts out of contact: its fibres are reset to the new normals (kept,
   // a fibre of the old orientation would read a turned garment as sheared through itself).
   for (int p = 0; p < contact_.size(); ++p) {
-    const SurfaceStencil& s = contact_.stencil[p];
     Vec3 a1, a2;
-    tangents(s, control_.x, a1, a2);
-    contact_.p.x[p] = s.position(control_.x);
+    contact_.stencil.tangents(p, control_.x, a1, a2);
+    contact_.p.x[p] = contact_.stencil.position(p, control_.x);
     contact_.fibre[p] = a1.cross(a2).normalized();
   }
 }
@@ -651,7 +652,7 @@ void HybridShellDynamics::setVelocities(const std::vector<Vec3>& v) {
   for (auto& C : control_.C) C.setZero();
   // Contact particles take the surface's velocity; their affine part restarts at zero.
   for (int p = 0; p < contact_.size(); ++p) {
-    contact_.p.v[p] = contact_.stencil[p].position(control_.v);
+    contact_.p.v[p] = contact_.stencil.position(p, control_.v);
     contact_.p.C[p].setZero();
   }
 }

@@ -20,6 +20,7 @@
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 #include "cloth_hair_sim/core/solver/newton_krylov.h"
 #include "cloth_hair_sim/core/subdiv/clamped_edges.h"
+#include "cloth_hair_sim/core/subdiv/first_order_stencils.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
 
 namespace chs {
@@ -225,7 +226,7 @@ class HybridShellDynamics : public ClothDynamics {
 
   mpm::Particles control_;   // type (ii): F is the per-step velocity gradient map, reset each step
   struct ContactParticles {  // type (iii)
-    std::vector<SurfaceStencil> stencil;
+    FirstOrderStencils stencil;
     mpm::Particles p;                          // F: as for control_
     std::vector<Eigen::Vector3d> fibre;        // a3^E, Han (5.5)
     std::vector<Eigen::Vector3d> fibre_force;  // -V dchi/da3 at the start of the step
