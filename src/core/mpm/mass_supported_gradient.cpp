@@ -18,15 +18,19 @@ void gradients(const SparseGrid& grid, const Eigen::Vector3d& x, const int* node
   g.resize(ParticleStencil<D>::kNodes);
   double W = 0.0;
   Eigen::Vector3d massless = Eigen::Vector3d::Zero();  // sum'' grad w_k
+  bool all_carry_mass = true;
   for (int i = 0, m = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k, ++m) {
         g[m] = s.gradient(i, j, k);
-        if (grid.mass[nodes[m]] > 0.0)
+        if (grid.mass[nodes[m]] > 0.0) {
           W += s.weight(i, j, k);
-        else
+        } else {
           massless += g[m];
+          all_carry_mass = false;
+        }
       }
+  if (all_carry_mass) return;  // the common case inside the cloth: g_i = grad w_i
   for (int i = 0, m = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k, ++m) {
