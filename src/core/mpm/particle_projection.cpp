@@ -26,6 +26,7 @@ void project(const SparseGrid& grid, const std::vector<MassCarriers>& carriers,
     tbb::parallel_for(0, static_cast<int>(x.size()), [&](int q) {
       if (m[q] <= 0.0) return;
       const ParticleStencil<D> s(x[q], dx);
+      const auto d = s.nodeOffsets(x[q], dx);
       const int* nodes = set.support->of(q);
       Eigen::Vector3d up = Eigen::Vector3d::Zero();
       Eigen::Matrix3d B = Eigen::Matrix3d::Zero();
@@ -35,14 +36,15 @@ void project(const SparseGrid& grid, const std::vector<MassCarriers>& carriers,
             const double w = s.weight(i, j, l);
             const Eigen::Vector3d& ui = u[nodes[k]];
             up += w * ui;
-            B += w * ui * (grid.position(nodes[k]) - x[q]).transpose();
+            B += w * ui * Eigen::RowVector3d(d[0][i], d[1][j], d[2][l]);
           }
       const Eigen::Matrix3d C = d_inv * B;
       std::vector<Eigen::Vector3d>& acc = local.local();
       for (int i = 0, k = 0; i < n; ++i)
         for (int j = 0; j < n; ++j)
           for (int l = 0; l < n; ++l, ++k)
-            acc[nodes[k]] += s.weight(i, j, l) * m[q] * (up + C * (grid.position(nodes[k]) - x[q]));
+            acc[nodes[k]] +=
+                s.weight(i, j, l) * m[q] * (up + C * Eigen::Vector3d(d[0][i], d[1][j], d[2][l]));
     });
   }
   momentum.assign(nn, Eigen::Vector3d::Zero());

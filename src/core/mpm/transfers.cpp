@@ -24,17 +24,6 @@ void forSupport(F&& f) {
       for (int k = 0; k < n; ++k, ++node) f(i, j, k, node);
 }
 
-// x_i - x_p per axis for the support's nodes: (base + k) dx - x_p, as grid.position(node) - x_p.
-template <int D>
-std::array<std::array<double, ParticleStencil<D>::kSupport>, 3> nodeOffsets(
-    const ParticleStencil<D>& s, const Eigen::Vector3d& x, double dx) {
-  std::array<std::array<double, ParticleStencil<D>::kSupport>, 3> d;
-  for (int a = 0; a < 3; ++a)
-    for (int k = 0; k < ParticleStencil<D>::kSupport; ++k)
-      d[a][k] = static_cast<double>(s.base[a] + k) * dx - x[a];
-  return d;
-}
-
 // Activates every particle's support (serially: the hash is not thread safe) and records the
 // node indices. Consecutive particles in one cell (neighbours on the surface) share a support,
 // which is then copied instead of looked up.
@@ -87,7 +76,7 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
       if (m == 0.0) return;  // massless particles (the shell's contact particles) add nothing
       Accumulator& acc = local.local();
       const ParticleStencil<D> st(p.x[q], dx);
-      const auto d = nodeOffsets(st, p.x[q], dx);
+      const auto d = st.nodeOffsets(p.x[q], dx);
       const int* nodes = supports[s].of(q);
       forSupport<D>([&](int i, int j, int k, int n) {
         const int node = nodes[n];
@@ -114,7 +103,7 @@ void gridToParticleImpl(const SparseGrid& grid, Particles& p, double nu, double 
   const double dx = grid.spacing(), d_inv = ParticleStencil<D>::inverseInertia(dx);
   tbb::parallel_for(0, p.size(), [&](int q) {
     const ParticleStencil<D> s(p.x[q], dx);
-    const auto d = nodeOffsets(s, p.x[q], dx);
+    const auto d = s.nodeOffsets(p.x[q], dx);
     const int* nodes = support ? support->of(q) : nullptr;
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
     Eigen::Matrix3d B = Eigen::Matrix3d::Zero(), gradv = Eigen::Matrix3d::Zero();

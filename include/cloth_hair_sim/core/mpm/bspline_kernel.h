@@ -75,6 +75,15 @@ struct ParticleStencil {
     return {dw[0][i] * w[1][j] * w[2][k], w[0][i] * dw[1][j] * w[2][k],
             w[0][i] * w[1][j] * dw[2][k]};
   }
+  // x_i - x_p per axis for the support's nodes, (base + k) dx - x_p: node (i, j, k) sits at
+  // x_p + (d[0][i], d[1][j], d[2][k]) without a look-up of its coordinates in the grid.
+  std::array<std::array<double, kSupport>, 3> nodeOffsets(const Eigen::Vector3d& x,
+                                                          double dx) const {
+    std::array<std::array<double, kSupport>, 3> d;
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < kSupport; ++k) d[a][k] = static_cast<double>(base[a] + k) * dx - x[a];
+    return d;
+  }
   // D_p^{-1} of APIC: 12 / (dx^2 (d + 1)), Han (3.14).
   static double inverseInertia(double dx) { return 12.0 / (dx * dx * (Degree + 1)); }
 };
