@@ -1,9 +1,9 @@
 // Stability and accuracy of the Kirchhoff-Love quadrature on Catmull-Clark limit surfaces: the
 // stiffness (the Hessian of Psi^KL (5.31) at the flat reference state) of a free sheet must have
 // exactly the 6 rigid-body modes as zero modes, or the rule lets the shell deform for free
-// (hourglassing). The default 2 x 2 Gauss rule and 3 x 3 are checked against the exact 4 x 4 on a
-// regular sheet and on an O-grid disc with extraordinary vertices; 1 x 1 shows that the check
-// catches spurious modes.
+// (hourglassing). The default 2 x 2 Gauss rule and 3 x 3 are checked against 4 x 4 (exact on
+// regular faces) on a regular sheet and on an O-grid disc with extraordinary vertices; 1 x 1 shows
+// that the check catches spurious modes.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -54,7 +54,7 @@ int zeroModes(const Eigen::VectorXd& spectrum) {
   return static_cast<int>((spectrum.array().abs() < 1e-9 * largest).count());
 }
 
-// Largest relative error of modes [6, 6 + count) against the exact rule.
+// Largest relative error of modes [6, 6 + count) against the reference rule.
 double modeError(const Eigen::VectorXd& rule, const Eigen::VectorXd& exact, int count) {
   double e = 0.0;
   for (int k = 6; k < 6 + count; ++k) e = std::max(e, std::abs(rule[k] / exact[k] - 1.0));
@@ -62,7 +62,8 @@ double modeError(const Eigen::VectorXd& rule, const Eigen::VectorXd& exact, int 
 }
 
 // 4 x 4 Gauss integrates the small-strain stiffness of a bicubic face exactly (degree 7 per
-// direction): it is the reference. The long waves (the 10 softest deformation modes) carry
+// direction): it is the reference (near extraordinary vertices, where the patches are not one
+// polynomial, a close one). The long waves (the 10 softest deformation modes) carry
 // drape; shorter ones, two or three faces long, are already coarse in the mesh itself.
 void checkRule(const char* name, const QuadMesh& mesh) {
   const Eigen::VectorXd two = stiffnessSpectrum(mesh, 2), three = stiffnessSpectrum(mesh, 3),

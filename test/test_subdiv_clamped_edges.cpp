@@ -2,6 +2,7 @@
 // reference surface as it was, the slaving holds the limit position and tangent plane along the
 // clamp line for any position of the free points and leaves the curvature free, and the folded
 // forces are the chain rule through the slaving.
+#include <cmath>
 #include <cstdio>
 #include <random>
 
@@ -146,7 +147,42 @@ TEST(ClampedEdges, RefusesClampsWithoutAnEdgeOrDirection) {
   for (int i = 1; i <= kNx; ++i) l_shape.push_back(vertex(i, 0));
   EXPECT_NE(message(l_shape).find("no unique direction"), std::string::npos);
   EXPECT_NE(message({99}).find("out of range"), std::string::npos);
+  // Half of the edge x = 0: its last point keeps a free boundary edge.
+  EXPECT_NE(message({vertex(0, 0), vertex(0, 1)}).find("partway"), std::string::npos);
   EXPECT_TRUE(ClampedEdges(mesh, {}).empty());
+  // A ring one quad tall with both rims clamped: each clamped point's neighbour is clamped too.
+  QuadMesh ring;
+  constexpr int n = 8;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < n; ++i)
+      ring.vertices.push_back(
+          Vec3(std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0.3 * j));
+  for (int i = 0; i < n; ++i) ring.quads.push_back({i, (i + 1) % n, n + (i + 1) % n, n + i});
+  std::vector<int> rims(2 * n);
+  for (int i = 0; i < 2 * n; ++i) rims[i] = i;
+  try {
+    ClampedEdges c(ring, rims);
+    ADD_FAILURE() << "a ring clamped on both rims was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is clamped too"), std::string::npos) << e.what();
+  }
+}
+
+// The clamp's net force is what B, G and the constraint force on N add up to:
+// r_B + r_G - J_B^T r_B - J_G^T r_G, whatever the residuals.
+TEST(ClampedEdges, ReactionIsTheSumOfTheConstraintForces) {
+  const ClampedEdges clamps(sheet(), firstColumn());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double largest = 0.0;
+  for (const auto& c : clamps.clamps()) {
+    const Vec3 rb(u(rng), u(rng), u(rng)), rg(u(rng), u(rng), u(rng));
+    const Vec3 on_neighbour = -clamps.foldedForce(c, rb, rg);
+    largest = std::max(largest, (clamps.reaction(c, rb, rg) - (rb + rg + on_neighbour)).norm());
+  }
+  std::printf("[figure] clamped edges: reaction against the summed constraint forces %.2e\n",
+              largest);
+  EXPECT_LT(largest, 1e-15);
 }
 
 }  // namespace

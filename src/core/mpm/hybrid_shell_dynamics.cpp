@@ -64,6 +64,10 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
     throw InputError("hybrid shell: contact mass fraction must lie in [0, 1)");
   if (!(s.friction >= 0.0 && std::isfinite(s.friction)))
     throw InputError("hybrid shell: collider friction must be >= 0 and finite");
+  if (s.kirchhoff_love.in_plane_order < 2)
+    throw InputError(
+        "hybrid shell: Kirchhoff-Love quadrature needs at least 2 x 2 points per face (1 x 1 "
+        "leaves the shell spurious zero-energy modes)");
   if (s.display_segments < 1 || s.display_segments > 16)
     throw InputError("hybrid shell: display segments per face edge must lie in 1..16");
   positive(s.max_time_step, "maximum time step");
@@ -87,17 +91,6 @@ double meanEdgeLength(const QuadMesh& mesh) {
     for (int k = 0; k < 4; ++k, ++n)
       sum += (mesh.vertices[q[(k + 1) % 4]] - mesh.vertices[q[k]]).norm();
   return sum / n;
-}
-
-// Tangents a1, a2 of the surface at a stencil, in one pass over its control points.
-void tangents(const SurfaceStencil& s, const std::vector<Vec3>& x, Vec3& a1, Vec3& a2) {
-  a1.setZero();
-  a2.setZero();
-  for (int k = 0; k < s.size(); ++k) {
-    const Vec3& xk = x[s.points[k]];
-    a1 += s.du[k] * xk;
-    a2 += s.dv[k] * xk;
-  }
 }
 
 struct HybridSnapshot : DynamicsSnapshot {
@@ -157,19 +150,17 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
         for (double gu : {0.5 - g, 0.5 + g})
           for (double gv : {0.5 - g, 0.5 + g}) {
             const SurfaceStencil s = surface_->stencil(f, (a + gu) / n, (b + gv) / n);
-            Vec3 a1, a2;
-            tangents(s, x0, a1, a2);
-            const double da = 0.25 * a1.cross(a2).norm() / (n * n);
+            const double da =
+                0.25 * s.combine(s.du, x0).cross(s.combine(s.dv, x0)).norm() / (n * n);
             cell_area += da;
             for (int k = 0; k < s.size(); ++k)
               lumped[s.points[k]] += (1.0 - frac) * areal_density_ * da * s.w[k];
           }
         SurfaceStencil s = surface_->stencil(f, (a + 0.5) / n, (b + 0.5) / n);
-        Vec3 a1, a2;
-        tangents(s, x0, a1, a2);
         contact_.p.add(s.position(x0), Vec3::Zero(), frac * areal_density_ * cell_area,
                        cell_area * thickness_);
-        contact_.fibre.push_back(a1.cross(a2).normalized());  // unstressed: a3^E = a3 (5.5)
+        // Unstressed: a3^E = a3 (5.5).
+        contact_.fibre.push_back(s.combine(s.du, x0).cross(s.combine(s.dv, x0)).normalized());
         contact_stencils.push_back(std::move(s));
       }
   }
@@ -189,11 +180,17 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
   display_triangles_ = t.triangles;
 
   free_axes_.assign(nc, Vec3::Ones());
-  for (const auto& f : problem.bc.fixed_components) free_axes_[f.vertex][f.axis] = 0.0;
+  for (const auto& f : problem.bc.fixed_components) {
+    checkNotClamped(f.vertex);
+    free_axes_[f.vertex][f.axis] = 0.0;
+  }
   reference_ = x0;
   pin_force_.assign(nc, Vec3::Zero());
   step_start_velocity_.assign(nc, Vec3::Zero());
-  for (int v : problem.bc.pinned) pins_.pinInPlace(v, x0);
+  for (int v : problem.bc.pinned) {
+    checkNotClamped(v);
+    pins_.pinInPlace(v, x0);
+  }
   setColliders(problem.colliders);
 }
 
@@ -578,7 +575,6 @@ void HybridShellDynamics::placeClamped(double dt) {
   clamps_.placePositions(control_.x);
   clamps_.placeVelocities(control_.v);
   const auto residual = [&](int p) {
-    control_.C[p].setZero();
     return Vec3(control_.mass[p] * ((control_.v[p] - step_start_velocity_[p]) / dt - gravity_) -
                 control_force_[p]);
   };
@@ -690,13 +686,19 @@ void HybridShellDynamics::setColliders(const RigidSurfaces& colliders,
   grid_colliders_ = std::move(grid_colliders);
 }
 
+// A clamp's points move with their interior neighbour N for the garment's life; a pin on any of
+// the three would fight the slaving, and its support force would miss the clamp's share.
 void HybridShellDynamics::checkNotClamped(int vertex) const {
   pins_.check(vertex);
+  const std::string which = "hybrid shell: control point " + std::to_string(vertex);
   if (clamps_.isSlaved(vertex))
-    throw InputError("hybrid shell: control point " + std::to_string(vertex) +
+    throw InputError(which +
                      (vertex < clamps_.numMeshVertices() ? " is clamped" : " is a clamp's ghost") +
-                     " (bc.clamped holds it for the garment's life): it cannot be pinned or "
-                     "unpinned");
+                     " (bc.clamped): it cannot be pinned, unpinned or fixed");
+  if (clamps_.isClampNeighbour(vertex))
+    throw InputError(which +
+                     " carries a clamp's tangent (the neighbour its clamped points follow): it "
+                     "cannot be pinned, unpinned or fixed");
 }
 
 void HybridShellDynamics::pin(int vertex) {

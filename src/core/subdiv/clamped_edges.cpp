@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/mesh/mesh_check.h"
 
 namespace chs {
 namespace {
@@ -50,6 +51,7 @@ ClampedEdges::ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped
   }
   if (clamped.empty()) {
     slaved_.assign(mesh_vertices_, 0);
+    neighbour_.assign(mesh_vertices_, 0);
     return;
   }
   const EdgeTable edges(mesh);
@@ -71,6 +73,13 @@ ClampedEdges::ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped
                        "at least two adjacent boundary vertices");
     // A boundary vertex of valence 3 has one edge into the shell; a corner (valence 2) has
     // none, and then the unclamped boundary edge leads into the shell.
+    // A clamp that stops partway along an edge would leave its last point with a free boundary
+    // edge, an interior edge and a ghost face: an irregular boundary vertex whose limit point
+    // is no longer held and whose reference surface changes.
+    if (interior_count == 1 && free_boundary_count > 0)
+      throw InputError(vertexName(v) +
+                       " ends a clamp partway along a boundary edge: a clamp must run to mesh "
+                       "corners (clamp the whole edge)");
     Clamp c;
     c.boundary = v;
     if (interior_count == 1)
@@ -82,6 +91,10 @@ ClampedEdges::ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped
                        " edges into the shell and " + std::to_string(free_boundary_count) +
                        " unclamped boundary edges: no unique direction to clamp (two clamped "
                        "edges meeting at a corner, or an irregular boundary vertex)");
+    if (ghost_of[c.interior] >= 0)
+      throw InputError(vertexName(v) + "'s neighbour into the shell, vertex " +
+                       std::to_string(c.interior) +
+                       ", is clamped too: a clamped edge needs a free row next to it");
     c.ghost = extended_.numVertices();
     c.point = mesh.vertices[v];
     const Vec3 d = mesh.vertices[c.interior] - c.point;
@@ -100,8 +113,19 @@ ClampedEdges::ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped
     const int a = forward ? lo : hi, b = forward ? hi : lo;
     extended_.quads.push_back({b, a, ghost_of[a], ghost_of[b]});
   }
+  try {
+    checkMesh(extended_);
+  } catch (const InputError& e) {
+    throw InputError(std::string("clamped edges: the mesh with ghost faces across its clamped "
+                                 "edges is broken (") +
+                     e.what() + ")");
+  }
   slaved_.assign(extended_.numVertices(), 0);
-  for (const Clamp& c : clamps_) slaved_[c.boundary] = slaved_[c.ghost] = 1;
+  neighbour_.assign(extended_.numVertices(), 0);
+  for (const Clamp& c : clamps_) {
+    slaved_[c.boundary] = slaved_[c.ghost] = 1;
+    neighbour_[c.interior] = 1;
+  }
 }
 
 void ClampedEdges::placePositions(std::vector<Vec3>& x) const {

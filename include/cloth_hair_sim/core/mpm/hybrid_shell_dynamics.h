@@ -140,8 +140,9 @@ class HybridShellDynamics : public ClothDynamics {
   }
   // Support force on each held control point in the last step, m a - f - m g with f the
   // shell's force on it: the prescribed acceleration is already in it (accelerations are
-  // checked for size only). A clamped point reports its clamp's whole force (its ghost's
-  // included; ghosts report zero).
+  // checked for size only). A clamped point reports its clamp's net force on the cloth there
+  // (its ghost's and neighbour's shares included; ghosts report zero); the clamp's moment is not
+  // reported.
   std::vector<Eigen::Vector3d> holdingForces(
       const std::vector<int>& vertices,
       const std::vector<Eigen::Vector3d>& accelerations = {}) const override;
@@ -242,8 +243,8 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<mpm::SupportNodes> supports_;     // of control_, contact_.p, solid_ (transferToGrid)
   std::vector<Eigen::Vector3d> control_force_;  // -dPsi/dx_p on control points this step
   std::vector<Eigen::Vector3d> kl_gradient_;    // dPsi^KL/dx_p
-  std::vector<Eigen::Vector3d> grid_force_;     // control_force_ without the pinned points
-  std::vector<double> transfer_mass_;           // masses the grid sees (pinned: none)
+  std::vector<Eigen::Vector3d> grid_force_;     // control_force_ without pinned or clamped points
+  std::vector<double> transfer_mass_;           // masses the grid sees (pinned, clamped: none)
   // Fibre velocity field S v, its gradient at the contact particles, and scratch for P(.).
   std::vector<Eigen::Vector3d> fibre_velocity_, projected_, shell_node_force_;
   std::vector<Eigen::Matrix3d> fibre_gradient_;
@@ -255,7 +256,8 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<Eigen::Vector3d> reference_;  // where fixed components are held
   PinSet pins_;
   std::vector<Eigen::Vector3d> pin_force_;  // support force on each control point, last step
-  std::vector<Eigen::Vector3d> step_start_velocity_;  // of pinned points, for their acceleration
+  // Of pinned and clamped points, for their acceleration.
+  std::vector<Eigen::Vector3d> step_start_velocity_;
 
   // Backward Euler scratch: trial control positions and contact fibres.
   std::vector<Eigen::Vector3d> trial_control_, trial_shift_, trial_fibre_;

@@ -24,7 +24,8 @@ struct KirchhoffLoveQuadrature {
   // 4 x 4 its 10 softest deformation modes are within 0.1 % (regular sheet) to 0.9 % (near
   // extraordinary vertices), shorter waves two or three faces long soften by up to 4 %
   // (test_shell_kirchhoff_love_modes). It costs 4/9 of 3 x 3: a step of the 90 x 90 sheet takes
-  // 12 % less time, with the same figures in every hybrid validation case (docs/VALIDATION.md).
+  // 12 % less time; the hybrid validation cases move by at most a few tenths of a per cent
+  // (docs/VALIDATION.md).
   int in_plane_order = 2;
   ThicknessRule thickness_rule = ThicknessRule::kGauss;
 };

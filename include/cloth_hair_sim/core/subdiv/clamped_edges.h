@@ -34,10 +34,14 @@ class ClampedEdges {
     Eigen::Vector3d point, direction;  // c and t
   };
 
-  // No clamped vertices: the extended mesh is `mesh`. Throws InputError naming the vertex when a
-  // clamped vertex is not on the boundary, has no clamped neighbour along the boundary (a clamp
-  // holds an edge), or has no unique interior neighbour N (the edge into the shell; at a corner,
-  // the unclamped boundary edge), e.g. at a corner where two clamped edges meet.
+  // No clamped vertices: the extended mesh is `mesh`. A clamp runs along whole boundary edges,
+  // corner to corner (a straight clamp holds its tangent plane exactly). Throws InputError
+  // naming the vertex when a clamped vertex is not on the boundary, has no clamped neighbour
+  // along the boundary, ends the clamp partway along an edge, has no unique interior neighbour N
+  // (the edge into the shell; at a corner, the unclamped boundary edge: two clamped edges
+  // meeting at a corner, or an irregular boundary vertex such as a triangle mesh's
+  // Catmull-Clark step leaves), or has a clamped N; and when the mesh with its ghost faces
+  // fails checkMesh.
   ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped);
 
   // The mesh with one ghost vertex per clamp and one ghost face per clamped boundary edge
@@ -47,8 +51,10 @@ class ClampedEdges {
   int numMeshFaces() const { return mesh_faces_; }
   const std::vector<Clamp>& clamps() const { return clamps_; }
   bool empty() const { return clamps_.empty(); }
-  // Whether a vertex of the extended mesh is slaved (a clamped vertex or a ghost).
+  // Whether a vertex of the extended mesh is slaved (a clamped vertex or a ghost), or is the
+  // interior neighbour N some clamp is slaved to.
   bool isSlaved(int vertex) const { return slaved_[vertex] != 0; }
+  bool isClampNeighbour(int vertex) const { return neighbour_[vertex] != 0; }
 
   // x_B and x_G from x_N (positions of the extended mesh).
   void placePositions(std::vector<Eigen::Vector3d>& x) const;
@@ -76,7 +82,7 @@ class ClampedEdges {
   QuadMesh extended_;
   int mesh_vertices_ = 0, mesh_faces_ = 0;
   std::vector<Clamp> clamps_;
-  std::vector<char> slaved_;
+  std::vector<char> slaved_, neighbour_;
 };
 
 }  // namespace chs
