@@ -4,13 +4,13 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <utility>
 
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/collider_spec.h"
+#include "cloth_hair_sim/core/mesh/boundary_edges.h"
 
 namespace chs {
 namespace {
@@ -32,20 +32,6 @@ void checkPositions(const QuadMesh& mesh, const std::vector<Eigen::Vector3d>& po
     for (int v : q)
       if (v < 0 || v >= mesh.numVertices())
         throw InputError("drape metrics: quad vertex " + std::to_string(v) + " out of range");
-}
-
-// Boundary edges: used by exactly one quad.
-std::vector<std::pair<int, int>> boundaryEdges(const QuadMesh& mesh) {
-  std::map<std::pair<int, int>, int> count;
-  for (const auto& q : mesh.quads)
-    for (int k = 0; k < 4; ++k) {
-      const int a = q[k], b = q[(k + 1) % 4];
-      ++count[{std::min(a, b), std::max(a, b)}];
-    }
-  std::vector<std::pair<int, int>> edges;
-  for (const auto& [e, n] : count)
-    if (n == 1) edges.push_back(e);
-  return edges;
 }
 
 // Circular moving average over 2 half + 1 samples.

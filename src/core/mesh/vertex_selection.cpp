@@ -1,9 +1,10 @@
 #include "cloth_hair_sim/core/mesh/vertex_selection.h"
 
+#include "cloth_hair_sim/core/mesh/boundary_edges.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <set>
 #include <utility>
 
@@ -37,15 +38,8 @@ int nearestVertex(const QuadMesh& mesh, const Eigen::Vector3d& point) {
 }
 
 std::vector<int> boundaryVertices(const QuadMesh& mesh) {
-  std::map<std::pair<int, int>, int> count;
-  for (const auto& q : mesh.quads)
-    for (int k = 0; k < 4; ++k) {
-      const int a = q[k], b = q[(k + 1) % 4];
-      ++count[{std::min(a, b), std::max(a, b)}];
-    }
   std::set<int> out;
-  for (const auto& [e, n] : count)
-    if (n == 1) out.insert({e.first, e.second});
+  for (const auto& [a, b] : boundaryEdges(mesh)) out.insert({a, b});
   return {out.begin(), out.end()};
 }
 

@@ -1,11 +1,13 @@
 #include "cloth_hair_sim/core/subdiv/clamped_edges.h"
 
 #include <algorithm>
-#include <map>
+#include <array>
+#include <set>
 #include <string>
 #include <utility>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/mesh/boundary_edges.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 
 namespace chs {
@@ -13,25 +15,22 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-// Undirected edges with the faces on them, and the direction each boundary edge has in its face.
+// Each vertex's edge neighbours, and which edges lie on the boundary (as (min, max)).
 struct EdgeTable {
-  std::map<std::pair<int, int>, int> faces;     // (min, max) -> number of faces
-  std::map<std::pair<int, int>, bool> forward;  // boundary edge (min, max): face runs min -> max
-  std::vector<std::vector<int>> neighbours;
+  std::vector<std::array<int, 2>> boundary;  // as their quads run them
+  std::set<std::pair<int, int>> on_boundary;
+  std::vector<std::set<int>> neighbours;
 
-  explicit EdgeTable(const QuadMesh& mesh) : neighbours(mesh.numVertices()) {
+  explicit EdgeTable(const QuadMesh& mesh)
+      : boundary(boundaryEdges(mesh)), neighbours(mesh.numVertices()) {
+    for (const auto& [a, b] : boundary) on_boundary.insert(std::minmax(a, b));
     for (const auto& q : mesh.quads)
       for (int k = 0; k < 4; ++k) {
-        const int a = q[k], b = q[(k + 1) % 4];
-        const auto key = std::minmax(a, b);
-        if (faces[key]++ == 0) {
-          neighbours[a].push_back(b);
-          neighbours[b].push_back(a);
-        }
-        forward[key] = a < b;
+        neighbours[q[k]].insert(q[(k + 1) % 4]);
+        neighbours[q[(k + 1) % 4]].insert(q[k]);
       }
   }
-  bool isBoundary(int a, int b) const { return faces.at(std::minmax(a, b)) == 1; }
+  bool isBoundary(int a, int b) const { return on_boundary.count(std::minmax(a, b)) > 0; }
 };
 
 std::string vertexName(int v) {
@@ -106,13 +105,9 @@ ClampedEdges::ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped
   }
   // One ghost face across each clamped boundary edge a -> b (as its face runs), oriented
   // consistently with it: b -> a -> G_a -> G_b.
-  for (const auto& [key, count] : edges.faces) {
-    const auto [lo, hi] = key;
-    if (count != 1 || ghost_of[lo] < 0 || ghost_of[hi] < 0) continue;
-    const bool forward = edges.forward.at(key);
-    const int a = forward ? lo : hi, b = forward ? hi : lo;
-    extended_.quads.push_back({b, a, ghost_of[a], ghost_of[b]});
-  }
+  for (const auto& [a, b] : edges.boundary)
+    if (ghost_of[a] >= 0 && ghost_of[b] >= 0)
+      extended_.quads.push_back({b, a, ghost_of[a], ghost_of[b]});
   try {
     checkMesh(extended_);
   } catch (const InputError& e) {
