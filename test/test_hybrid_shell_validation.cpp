@@ -93,10 +93,11 @@ double cantileverOmega(double thickness, double poisson, double length) {
 }
 
 // Settles the clamped strip and returns the tip deflection of the limit surface, averaged over
-// the tip edge, the largest control speed at the end, and the clamp's vertical force over the
-// strip's weight.
+// the tip edge, the largest control speed at the end, the clamp's vertical force over the
+// strip's weight W, and its moment about the clamp line over W x_c, the weight's lever arm
+// (x_c the centre of mass's distance from the wall, the same for every sample point).
 struct SettledTip {
-  double deflection, speed, clamp_load;
+  double deflection, speed, clamp_load, clamp_moment;
 };
 SettledTip settledHybridTip(double thickness, double poisson, ThicknessRule rule, int nx = kBeamNx,
                             int ny = kBeamNy) {
@@ -113,7 +114,13 @@ SettledTip settledHybridTip(double thickness, double poisson, ThicknessRule rule
   for (const Vec3& v : d.velocities()) speed = std::max(speed, v.norm());
   double clamp = 0.0;
   for (const Vec3& f : d.holdingForces(p.bc.clamped)) clamp += f.z();
-  return {-meanZ(d.surfacePoints(), tip), speed, clamp / (kBeamRho * kBeamL * kBeamW * kG)};
+  double centre = 0.0;  // x of the centre of mass
+  for (int i = 0; i < d.numVertices(); ++i) centre += d.masses()[i] * d.positions()[i].x();
+  centre /= d.totalMass();
+  // The cloth's weight turns it about +y at the wall (x right, z up); the clamp holds it back.
+  const double weight = kBeamRho * kBeamL * kBeamW * kG;
+  const double moment = -d.clampWrench(Vec3::Zero()).torque.y();
+  return {-meanZ(d.surfacePoints(), tip), speed, clamp / weight, moment / (weight * centre)};
 }
 
 double femTip(double thickness, double poisson, int nx = kBeamNx, int ny = kBeamNy) {
@@ -145,12 +152,14 @@ TEST(HybridShellValidation, CantileverMatchesFemShell) {
       coarse_error = 1.0 - ratio;
       std::printf(
           "[figure] cantilever nu = %.1f, tau = %.1f mm, %d x %d quads: tip deflection hybrid "
-          "%.4f mm (%.1f %% of L), FEM %.4f mm, ratio %.4f; clamp carries %.4f of the weight; "
-          "largest control speed at the end %.1e m/s\n",
+          "%.4f mm (%.1f %% of L), FEM %.4f mm, ratio %.4f; clamp carries %.4f of the weight and "
+          "%.4f of its moment; largest control speed at the end %.1e m/s\n",
           poisson, 1e3 * thickness, kBeamNx, kBeamNy, 1e3 * mpm.deflection,
-          100 * mpm.deflection / kBeamL, 1e3 * fem, ratio, mpm.clamp_load, mpm.speed);
+          100 * mpm.deflection / kBeamL, 1e3 * fem, ratio, mpm.clamp_load, mpm.clamp_moment,
+          mpm.speed);
       EXPECT_NEAR(ratio, 1.0, poisson == 0.0 ? 0.01 : 0.05);
       EXPECT_NEAR(mpm.clamp_load, 1.0, 3e-3);
+      EXPECT_NEAR(mpm.clamp_moment, 1.0, 5e-3);
     }
   // The free hems' error shrinks with the spacing.
   const double fine =

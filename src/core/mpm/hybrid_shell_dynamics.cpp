@@ -97,7 +97,7 @@ struct HybridSnapshot : DynamicsSnapshot {
   mpm::Particles control, contact;
   std::vector<Vec3> fibre;
   std::vector<Eigen::Matrix3d> plastic;  // F^{KL,P} of each quadrature point
-  std::vector<Vec3> pin_force;
+  std::vector<Vec3> pin_force, clamp_residual;
   mpm::Particles solid;
   std::optional<mpm::HenckySolid> solid_material;
   double solid_wave_speed = 0.0;
@@ -186,6 +186,7 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
   }
   reference_ = x0;
   pin_force_.assign(nc, Vec3::Zero());
+  clamp_residual_.assign(nc, Vec3::Zero());
   step_start_velocity_.assign(nc, Vec3::Zero());
   for (int v : problem.bc.pinned) {
     checkNotClamped(v);
@@ -578,8 +579,12 @@ void HybridShellDynamics::placeClamped(double dt) {
     return Vec3(control_.mass[p] * ((control_.v[p] - step_start_velocity_[p]) / dt - gravity_) -
                 control_force_[p]);
   };
-  for (const ClampedEdges::Clamp& c : clamps_.clamps())
-    pin_force_[c.boundary] = clamps_.reaction(c, residual(c.boundary), residual(c.ghost));
+  for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
+    clamp_residual_[c.boundary] = residual(c.boundary);
+    clamp_residual_[c.ghost] = residual(c.ghost);
+    pin_force_[c.boundary] =
+        clamps_.reaction(c, clamp_residual_[c.boundary], clamp_residual_[c.ghost]);
+  }
 }
 
 // Section 5.5.5: denting return mapping at the quadrature points, Coulomb return mapping
@@ -725,6 +730,24 @@ std::vector<Vec3> HybridShellDynamics::holdingForces(const std::vector<int>& ver
   return r;
 }
 
+// The clamp's constraint forces act on B, G and (through the slaving) N: r_B, r_G and
+// -(J_B^T r_B + J_G^T r_G). Their moment at the control points is the one a rigid rotation of
+// the cloth would work against, since the limit surface is an affine combination of them.
+HoldingWrench HybridShellDynamics::clampWrench(const Vec3& origin) const {
+  HoldingWrench w;
+  for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
+    const Vec3& rb = clamp_residual_[c.boundary];
+    const Vec3& rg = clamp_residual_[c.ghost];
+    const std::pair<int, Vec3> forces[] = {
+        {c.boundary, rb}, {c.ghost, rg}, {c.interior, -clamps_.foldedForce(c, rb, rg)}};
+    for (const auto& [p, f] : forces) {
+      w.force += f;
+      w.torque += (control_.x[p] - origin).cross(f);
+    }
+  }
+  return w;
+}
+
 std::unique_ptr<DynamicsSnapshot> HybridShellDynamics::snapshot() const {
   auto s = std::make_unique<HybridSnapshot>();
   s->control = control_;
@@ -732,6 +755,7 @@ std::unique_ptr<DynamicsSnapshot> HybridShellDynamics::snapshot() const {
   s->fibre = contact_.fibre;
   for (const auto& q : kl_points_) s->plastic.push_back(q.plasticDeformation());
   s->pin_force = pin_force_;
+  s->clamp_residual = clamp_residual_;
   s->solid = solid_;
   s->solid_material = solid_material_;
   s->solid_wave_speed = solid_wave_speed_;
@@ -747,6 +771,7 @@ void HybridShellDynamics::restore(const DynamicsSnapshot& snapshot) {
   for (std::size_t q = 0; q < kl_points_.size(); ++q)
     kl_points_[q].setPlasticDeformation(s.plastic[q]);
   pin_force_ = s.pin_force;
+  clamp_residual_ = s.clamp_residual;
   solid_ = s.solid;
   solid_material_ = s.solid_material;
   solid_wave_speed_ = s.solid_wave_speed;

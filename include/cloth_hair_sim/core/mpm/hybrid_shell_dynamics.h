@@ -8,6 +8,7 @@
 
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
+#include "cloth_hair_sim/core/dynamics/holding_wrench.h"
 #include "cloth_hair_sim/core/dynamics/pin_set.h"
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 #include "cloth_hair_sim/core/mpm/hencky_solid.h"
@@ -141,11 +142,15 @@ class HybridShellDynamics : public ClothDynamics {
   // Support force on each held control point in the last step, m a - f - m g with f the
   // shell's force on it: the prescribed acceleration is already in it (accelerations are
   // checked for size only). A clamped point reports its clamp's net force on the cloth there
-  // (its ghost's and neighbour's shares included; ghosts report zero); the clamp's moment is not
-  // reported.
+  // (its ghost's and neighbour's shares included; ghosts report zero); clampWrench() also gives
+  // the clamps' moment.
   std::vector<Eigen::Vector3d> holdingForces(
       const std::vector<int>& vertices,
       const std::vector<Eigen::Vector3d>& accelerations = {}) const override;
+
+  // Force and moment about `origin` that all clamps (bc.clamped) exert on the cloth in the last
+  // step: what a gripper holding the clamped edges feels, reversed.
+  HoldingWrench clampWrench(const Eigen::Vector3d& origin) const;
 
   std::unique_ptr<DynamicsSnapshot> snapshot() const override;
   void restore(const DynamicsSnapshot& snapshot) override;
@@ -255,7 +260,8 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<Eigen::Vector3d> free_axes_;  // 1 where an axis is free, 0 where bc fixes it
   std::vector<Eigen::Vector3d> reference_;  // where fixed components are held
   PinSet pins_;
-  std::vector<Eigen::Vector3d> pin_force_;  // support force on each control point, last step
+  std::vector<Eigen::Vector3d> pin_force_;       // support force on each control point, last step
+  std::vector<Eigen::Vector3d> clamp_residual_;  // m a - f - m g of clamped points and ghosts
   // Of pinned and clamped points, for their acceleration.
   std::vector<Eigen::Vector3d> step_start_velocity_;
 
