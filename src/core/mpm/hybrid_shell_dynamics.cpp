@@ -580,10 +580,12 @@ void HybridShellDynamics::placeClamped(double dt) {
                 control_force_[p]);
   };
   for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
-    clamp_residual_[c.boundary] = residual(c.boundary);
-    clamp_residual_[c.ghost] = residual(c.ghost);
-    pin_force_[c.boundary] =
-        clamps_.reaction(c, clamp_residual_[c.boundary], clamp_residual_[c.ghost]);
+    const Vec3& rb = clamp_residual_[c.boundary] = residual(c.boundary);
+    const Vec3& rg = clamp_residual_[c.ghost] = residual(c.ghost);
+    pin_force_[c.boundary] = clamps_.reaction(c, rb, rg);
+    // A pinned N supplies its own residual less the clamp's share -(J_B^T r_B + J_G^T r_G),
+    // which the clamp's force already counts.
+    if (pins_.isPinned(c.interior)) pin_force_[c.interior] += clamps_.foldedForce(c, rb, rg);
   }
 }
 
@@ -691,19 +693,14 @@ void HybridShellDynamics::setColliders(const RigidSurfaces& colliders,
   grid_colliders_ = std::move(grid_colliders);
 }
 
-// A clamp's points move with their interior neighbour N for the garment's life; a pin on any of
-// the three would fight the slaving, and its support force would miss the clamp's share.
+// A clamp's points move with their interior neighbour N for the garment's life: a pin on one
+// would fight the slaving. (N itself may be pinned; the clamp then follows the pin.)
 void HybridShellDynamics::checkNotClamped(int vertex) const {
   pins_.check(vertex);
-  const std::string which = "hybrid shell: control point " + std::to_string(vertex);
   if (clamps_.isSlaved(vertex))
-    throw InputError(which +
+    throw InputError("hybrid shell: control point " + std::to_string(vertex) +
                      (vertex < clamps_.numMeshVertices() ? " is clamped" : " is a clamp's ghost") +
                      " (bc.clamped): it cannot be pinned, unpinned or fixed");
-  if (clamps_.isClampNeighbour(vertex))
-    throw InputError(which +
-                     " carries a clamp's tangent (the neighbour its clamped points follow): it "
-                     "cannot be pinned, unpinned or fixed");
 }
 
 void HybridShellDynamics::pin(int vertex) {

@@ -50,7 +50,6 @@ ClampedEdges::ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped
   }
   if (clamped.empty()) {
     slaved_.assign(mesh_vertices_, 0);
-    neighbour_.assign(mesh_vertices_, 0);
     return;
   }
   const EdgeTable edges(mesh);
@@ -116,11 +115,7 @@ ClampedEdges::ClampedEdges(const QuadMesh& mesh, const std::vector<int>& clamped
                      e.what() + ")");
   }
   slaved_.assign(extended_.numVertices(), 0);
-  neighbour_.assign(extended_.numVertices(), 0);
-  for (const Clamp& c : clamps_) {
-    slaved_[c.boundary] = slaved_[c.ghost] = 1;
-    neighbour_[c.interior] = 1;
-  }
+  for (const Clamp& c : clamps_) slaved_[c.boundary] = slaved_[c.ghost] = 1;
 }
 
 void ClampedEdges::placePositions(std::vector<Vec3>& x) const {

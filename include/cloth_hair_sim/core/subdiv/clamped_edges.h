@@ -51,10 +51,8 @@ class ClampedEdges {
   int numMeshFaces() const { return mesh_faces_; }
   const std::vector<Clamp>& clamps() const { return clamps_; }
   bool empty() const { return clamps_.empty(); }
-  // Whether a vertex of the extended mesh is slaved (a clamped vertex or a ghost), or is the
-  // interior neighbour N some clamp is slaved to.
+  // Whether a vertex of the extended mesh is slaved (a clamped vertex or a ghost).
   bool isSlaved(int vertex) const { return slaved_[vertex] != 0; }
-  bool isClampNeighbour(int vertex) const { return neighbour_[vertex] != 0; }
 
   // x_B and x_G from x_N (positions of the extended mesh).
   void placePositions(std::vector<Eigen::Vector3d>& x) const;
@@ -82,7 +80,7 @@ class ClampedEdges {
   QuadMesh extended_;
   int mesh_vertices_ = 0, mesh_faces_ = 0;
   std::vector<Clamp> clamps_;
-  std::vector<char> slaved_, neighbour_;
+  std::vector<char> slaved_;
 };
 
 }  // namespace chs
