@@ -192,6 +192,7 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
   p.material = garmentMaterial(req, g.material_name);
   p.gravity = params.gravity;
   for (int v : req.pinned) p.bc.pinned.push_back(v);
+  for (int v : req.clamped) p.bc.clamped.push_back(v);
   for (const auto& f : req.fixed) {
     if (f.axes.empty())
       throw InputError("fixed vertex " + std::to_string(f.vertex) + ": no axes (use x, y, z)");

@@ -193,6 +193,31 @@ TEST_F(SimNodeTest, LoadsSimulatesAndRemovesARectangle) {
   EXPECT_EQ(s.state, "idle");
 }
 
+// A sheet clamped along one edge (row y = -5 cm) sags as a plate cantilever: the clamp line
+// stays at its height and nothing rises above it; the clamp adds a ghost point per clamped
+// vertex to the garment's control points.
+TEST_F(SimNodeTest, ClampsAnEdgeOfARectangle) {
+  auto req = rectangle("clamped_sheet", 0.1, 4);
+  req.pose.position.z = 2.0;
+  req.clamped = {0, 1, 2, 3, 4};
+  const auto res = load(req);
+  ASSERT_TRUE(res.success) << res.message;
+  cloth_hair_sim::SimStatus s;
+  ASSERT_TRUE(listener_.waitStatus(
+      [](const auto& m) { return m.state == "running" && m.steps > 20; }, &s));
+  EXPECT_EQ(s.vertices, 25 + 5);
+  visualization_msgs::MarkerArray a;
+  ASSERT_TRUE(listener_.waitMarkers([](const auto& m) { return findMarker(m, "garments"); }, &a));
+  double top = -1e9, bottom = 1e9;
+  for (const auto& p : findMarker(a, "garments")->points) {
+    top = std::max(top, p.z);
+    bottom = std::min(bottom, p.z);
+  }
+  EXPECT_NEAR(top, 2.0, 1e-9);
+  EXPECT_LT(bottom, 2.0);
+  EXPECT_TRUE(remove("clamped_sheet"));
+}
+
 TEST_F(SimNodeTest, RefusesBadGarmentsAndKeepsRunning) {
   struct Case {
     std::string what, expect_in_message;
@@ -234,6 +259,11 @@ TEST_F(SimNodeTest, RefusesBadGarmentsAndKeepsRunning) {
     auto r = rectangle("pin_out_of_range", 0.1, 4);
     r.pinned = {25};
     cases.push_back({"pin out of range", "25", r});
+  }
+  {
+    auto r = rectangle("clamp_inside", 0.1, 4);
+    r.clamped = {12};  // the centre vertex
+    cases.push_back({"clamp off the boundary", "not on the mesh boundary", r});
   }
   {
     auto r = rectangle("bad_axis", 0.1, 4);
