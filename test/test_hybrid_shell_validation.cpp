@@ -2,11 +2,13 @@
 // shell, closed forms and its own contracts: cantilever bending for three thicknesses (and Han's
 // +-tau/4 thickness rule), Coulomb friction on an incline, denting with a von Mises lamina,
 // penetration of a cloth dropped on a sphere, self-intersections of a twisted tube.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -15,6 +17,7 @@
 #include "cloth_hair_sim/core/collision/triangle_intersections.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
+#include "cloth_hair_sim/core/io/gnuplot.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
 #include "cloth_test_material.h"
@@ -96,40 +99,95 @@ double cantileverOmega(double thickness, double poisson, double length) {
 // the tip edge, the largest control speed at the end, the clamp's vertical force over the
 // strip's weight W, and its moment about the clamp line over W x_c, the weight's lever arm
 // (x_c the centre of mass's distance from the wall, the same for every sample point).
+// Also the deformed centre line y = 0 of the limit surface, in the order of its reference x.
 struct SettledTip {
   double deflection, speed, clamp_load, clamp_moment;
+  std::vector<Vec3> centreline;
 };
-SettledTip settledHybridTip(double thickness, double poisson, ThicknessRule rule, int nx = kBeamNx,
-                            int ny = kBeamNy) {
-  const DrapeProblem p = cantilever(thickness, poisson, kBeamL, nx, ny);
-  const double omega = cantileverOmega(thickness, poisson, kBeamL);
+SettledTip settledHybridTip(const DrapeProblem& p, double omega, ThicknessRule rule) {
   HybridShellSettings s;
   s.damping = 2.0 * omega;
   s.kirchhoff_love.thickness_rule = rule;
   HybridShellDynamics d(p, s);
   const std::vector<int> tip = samplesWhere(d, [](const Vec3& x) { return x.x() > kBeamL - 1e-9; });
+  std::vector<int> centre_ids =
+      samplesWhere(d, [](const Vec3& x) { return std::abs(x.y()) < 1e-9; });
+  const std::vector<Vec3> x0 = d.surfacePoints();
+  std::sort(centre_ids.begin(), centre_ids.end(),
+            [&](int a, int b) { return x0[a].x() < x0[b].x(); });
   // e^{-omega t} (1 + omega t) < 5e-4 at omega t = 10.
   runUntil(d, 10.0 / omega);
   double speed = 0.0;
   for (const Vec3& v : d.velocities()) speed = std::max(speed, v.norm());
   double clamp = 0.0;
   for (const Vec3& f : d.holdingForces(p.bc.clamped)) clamp += f.z();
+  std::vector<Vec3> centreline;
+  const std::vector<Vec3> x1 = d.surfacePoints();
+  for (int i : centre_ids) centreline.push_back(x1[i]);
   double centre = 0.0;  // x of the centre of mass
   for (int i = 0; i < d.numVertices(); ++i) centre += d.masses()[i] * d.positions()[i].x();
   centre /= d.totalMass();
   // The cloth's weight turns it about +y at the wall (x right, z up); the clamp holds it back.
   const double weight = kBeamRho * kBeamL * kBeamW * kG;
   const double moment = -d.clampWrench(Vec3::Zero()).torque.y();
-  return {-meanZ(d.surfacePoints(), tip), speed, clamp / weight, moment / (weight * centre)};
+  return {-meanZ(d.surfacePoints(), tip), speed, clamp / weight, moment / (weight * centre),
+          centreline};
+}
+SettledTip settledHybridTip(double thickness, double poisson, ThicknessRule rule, int nx = kBeamNx,
+                            int ny = kBeamNy) {
+  return settledHybridTip(cantilever(thickness, poisson, kBeamL, nx, ny),
+                          cantileverOmega(thickness, poisson, kBeamL), rule);
 }
 
-double femTip(double thickness, double poisson, int nx = kBeamNx, int ny = kBeamNy) {
+// The FEM's tip deflection (mean over the tip edge) and its middle row of nodes (y = 0).
+struct FemTip {
+  double deflection;
+  std::vector<Vec3> centreline;
+};
+FemTip femTip(double thickness, double poisson, int nx = kBeamNx, int ny = kBeamNy) {
   const DrapeProblem p = cantilever(thickness, poisson, kBeamL, nx, ny);
   const DrapeResult r = solveFemShell(p, FemShellSettings{});
   EXPECT_TRUE(r.converged) << r.status;
   double z = 0.0;
   for (int j = 0; j <= ny; ++j) z += r.positions[j * (nx + 1) + nx].z();
-  return -z / (ny + 1);
+  FemTip t{-z / (ny + 1), {}};
+  for (int i = 0; i <= nx; ++i) t.centreline.push_back(r.positions[(ny / 2) * (nx + 1) + i]);
+  return t;
+}
+
+// With CHS_VALIDATION_PLOTS=<dir>: the centre lines at nu = 0.3 as <dir>/hybrid_cantilever.png,
+// the hybrid's (lines) against the FEM's nodes (points), and the old clamp of two pinned control
+// columns at tau = 6.3 mm (dashed) for comparison.
+void plotCantilevers(const std::vector<std::pair<double, SettledTip>>& hybrid,
+                     const std::vector<FemTip>& fem, const SettledTip& pinned_columns) {
+  const char* dir = std::getenv("CHS_VALIDATION_PLOTS");
+  if (!dir) return;
+  std::ostringstream s;
+  const auto block = [&s](const std::string& name, const std::vector<Vec3>& line) {
+    s << "$" << name << " << EOD\n";
+    for (const Vec3& x : line) s << 1e3 * x.x() << " " << 1e3 * x.z() << "\n";
+    s << "EOD\n";
+  };
+  for (std::size_t k = 0; k < hybrid.size(); ++k) {
+    block("h" + std::to_string(k), hybrid[k].second.centreline);
+    block("f" + std::to_string(k), fem[k].centreline);
+  }
+  block("old", pinned_columns.centreline);
+  s << "set terminal pngcairo size 1000,520 font 'sans,11'\n"
+    << "set output " << gnuplotQuote(std::string(dir) + "/hybrid_cantilever.png") << "\n"
+    << "set title 'Strip 10 x 2 cm clamped at x = 0, under gravity, nu = 0.3, 8 x 2 quads: "
+       "centre lines'\n"
+    << "set xlabel 'x [mm]'\nset ylabel 'z [mm]'\nset key below maxcols 2\nset grid\n"
+    << "set size ratio -1\nplot ";
+  const char* colours[] = {"#1f77b4", "#2ca02c", "#d62728"};
+  for (std::size_t k = 0; k < hybrid.size(); ++k)
+    s << "$h" << k << " with lines lw 2 lc rgb '" << colours[k % 3]
+      << "' title 'hybrid, tau = " << 1e3 * hybrid[k].first << " mm', $f" << k
+      << " with points pt 7 ps 1.2 lc rgb '" << colours[k % 3] << "' title 'FEM shell', ";
+  s << "$old with lines dt 2 lw 2 lc rgb '#d62728' title 'two pinned control columns (before "
+       "clamped edges), tau = 6.3 mm'\n";
+  runGnuplot(s.str());
+  std::printf("[figure] cantilever centre lines plotted to %s/hybrid_cantilever.png\n", dir);
 }
 
 // The clamp (ghost faces across the clamped edge, subdiv/clamped_edges.h) holds the root's
@@ -143,10 +201,17 @@ TEST(HybridShellValidation, CantileverMatchesFemShell) {
   WallClock clock("cantilever");
   double gauss = 0.0;  // tip of the last (stiffest) strip, for the thickness-rule comparison
   double coarse_error = 0.0;
+  std::vector<std::pair<double, SettledTip>> plotted;  // nu = 0.3, by thickness
+  std::vector<FemTip> plotted_fem;
   for (double poisson : {0.0, 0.3})
     for (double thickness : {4.0e-3, 5.0e-3, 6.3e-3}) {
-      const double fem = femTip(thickness, poisson);
+      const FemTip fem_tip = femTip(thickness, poisson);
+      const double fem = fem_tip.deflection;
       const SettledTip mpm = settledHybridTip(thickness, poisson, ThicknessRule::kGauss);
+      if (poisson > 0.0) {
+        plotted.push_back({thickness, mpm});
+        plotted_fem.push_back(fem_tip);
+      }
       gauss = mpm.deflection;
       const double ratio = mpm.deflection / fem;
       coarse_error = 1.0 - ratio;
@@ -164,7 +229,7 @@ TEST(HybridShellValidation, CantileverMatchesFemShell) {
   // The free hems' error shrinks with the spacing.
   const double fine =
       settledHybridTip(6.3e-3, 0.3, ThicknessRule::kGauss, 2 * kBeamNx, 2 * kBeamNy).deflection /
-      femTip(6.3e-3, 0.3, 2 * kBeamNx, 2 * kBeamNy);
+      femTip(6.3e-3, 0.3, 2 * kBeamNx, 2 * kBeamNy).deflection;
   std::printf(
       "[figure] cantilever nu = 0.3, tau = 6.3 mm, %d x %d quads: ratio %.4f; error %.1f %% -> "
       "%.1f %%\n",
@@ -178,6 +243,15 @@ TEST(HybridShellValidation, CantileverMatchesFemShell) {
       "%.4f (small-deflection theory 4/3)\n",
       1e3 * thickness, 1e3 * han, 1e3 * gauss, han / gauss);
   EXPECT_NEAR(han / gauss, 4.0 / 3.0, 0.04);
+  if (std::getenv("CHS_VALIDATION_PLOTS")) {
+    DrapeProblem pinned = cantilever(6.3e-3, 0.3, kBeamL, kBeamNx, kBeamNy);
+    pinned.bc.clamped.clear();
+    for (int j = 0; j <= kBeamNy; ++j)
+      for (int i = 0; i < 2; ++i) pinned.bc.pinned.push_back(j * (kBeamNx + 1) + i);
+    plotCantilevers(
+        plotted, plotted_fem,
+        settledHybridTip(pinned, cantileverOmega(6.3e-3, 0.3, kBeamL), ThicknessRule::kGauss));
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
