@@ -18,6 +18,7 @@
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
+#include "cloth_hair_sim/core/subdiv/first_order_stencils.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
 #include "cloth_hair_sim/core/subdiv/quad_conversion.h"
 
@@ -217,6 +218,31 @@ TEST(LimitSurface, PartitionOfUnity) {
     EXPECT_LT(w_err, tol_w) << name;
     EXPECT_LT(d_err, tol_d) << name;
   }
+}
+
+// The contact particles' flat stencils give the same positions and tangents as the full ones,
+// at regular and extraordinary faces, over a bent control net.
+TEST(LimitSurface, FirstOrderStencilsMatchTheFullStencils) {
+  const QuadMesh mesh = sectorMesh(5, 2);
+  const LimitSurface s(mesh);
+  std::vector<SurfaceStencil> full;
+  for (int f = 0; f < s.numFaces(); ++f)
+    for (double u : {0.1, 0.5, 0.9}) full.push_back(s.stencil(f, u, 1.0 - u));
+  const FirstOrderStencils flat(full);
+  ASSERT_EQ(flat.size(), static_cast<int>(full.size()));
+  std::vector<V3> x = mesh.vertices;
+  for (V3& p : x) p.z() = 0.3 * p.x() * p.x() - 0.2 * p.y();
+  double largest = 0.0;
+  for (int i = 0; i < flat.size(); ++i) {
+    V3 a1, a2;
+    flat.tangents(i, x, a1, a2);
+    largest = std::max({largest, (flat.position(i, x) - full[i].position(x)).norm(),
+                        (a1 - full[i].combine(full[i].du, x)).norm(),
+                        (a2 - full[i].combine(full[i].dv, x)).norm()});
+  }
+  std::printf("[figure] first-order stencils against the full ones: largest difference %.1e\n",
+              largest);
+  EXPECT_LT(largest, 1e-14);
 }
 
 // Uniform cubic B-spline basis on [0, 1] and its first two derivatives.
