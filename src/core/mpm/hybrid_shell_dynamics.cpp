@@ -318,10 +318,10 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   grid_force_ = control_force_;
   // Clamped points and ghosts move with their interior neighbour N: their forces, and the part of
   // their weight the grid does not already apply to the mass N carries for them, act on N.
-  clamps_.foldForces(grid_force_);
   for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
     const double mb = control_.mass[c.boundary], mg = control_.mass[c.ghost];
-    grid_force_[c.interior] += clamps_.foldedForce(c, mb * gravity_, mg * gravity_) -
+    grid_force_[c.interior] += clamps_.foldedForce(c, grid_force_[c.boundary] + mb * gravity_,
+                                                   grid_force_[c.ghost] + mg * gravity_) -
                                ClampedEdges::carriedMass(mb, mg) * gravity_;
     grid_force_[c.boundary].setZero();
     grid_force_[c.ghost].setZero();

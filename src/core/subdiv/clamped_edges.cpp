@@ -136,10 +136,6 @@ void ClampedEdges::placeVelocities(std::vector<Vec3>& v) const {
   }
 }
 
-void ClampedEdges::foldForces(std::vector<Vec3>& f) const {
-  for (const Clamp& c : clamps_) f[c.interior] += foldedForce(c, f[c.boundary], f[c.ghost]);
-}
-
 Vec3 ClampedEdges::foldedForce(const Clamp& c, const Vec3& f_boundary, const Vec3& f_ghost) const {
   const Vec3& t = c.direction;
   return -0.5 * (f_boundary - t * t.dot(f_boundary)) + f_ghost - 2.0 * t * t.dot(f_ghost);

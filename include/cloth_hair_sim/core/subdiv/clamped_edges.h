@@ -58,10 +58,8 @@ class ClampedEdges {
   void placePositions(std::vector<Eigen::Vector3d>& x) const;
   // v_B = -(I - t t^T) v_N / 2, v_G = R v_N (the clamp does not move).
   void placeVelocities(std::vector<Eigen::Vector3d>& v) const;
-  // Generalised forces on the free points: f_N += J_B^T f_B + J_G^T f_G with J_B = -(I - t t^T)/2
-  // and J_G = R, the chain rule through the slaving. f_B and f_G are left as they are.
-  void foldForces(std::vector<Eigen::Vector3d>& f) const;
-  // J_B^T f_B + J_G^T f_G for one clamp.
+  // The generalised force on N of forces f_B, f_G on one clamp's B and G: J_B^T f_B + J_G^T f_G
+  // with J_B = -(I - t t^T)/2 and J_G = R, the chain rule through the slaving.
   Eigen::Vector3d foldedForce(const Clamp& clamp, const Eigen::Vector3d& f_boundary,
                               const Eigen::Vector3d& f_ghost) const;
   // The mass N carries for B and G: the slaved kinetic energy gives J^T M J = m_G I +
