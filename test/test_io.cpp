@@ -108,6 +108,75 @@ TEST(MeshIo, BadFiles) {
   fs::remove_all(dir);
 }
 
+// A file that does not parse whole is refused with the line (or element) that broke, not loaded
+// with the faces before the damage (assimp alone drops a face cut in the middle).
+TEST(MeshIo, TruncatedAndDamagedFilesNameTheLine) {
+  const fs::path dir = tempDir();
+  const QuadMesh mesh = makeRectangleMesh(0.1, 0.1, 3, 3);
+  const std::string obj = (dir / "full.obj").string(), ply = (dir / "full.ply").string();
+  writeObj(obj, mesh, mesh.vertices);
+  writePly(ply, mesh, mesh.vertices);
+  EXPECT_EQ(readQuadMesh(obj).numQuads(), 9);
+  EXPECT_EQ(readQuadMesh(ply).numQuads(), 9);
+  std::ifstream in(obj);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  int lines = 0;
+  for (char c : text) lines += c == '\n';
+  // The last face cut in the middle (after "f a b"): the file ends inside its line.
+  const std::size_t last_face = text.rfind("\nf ") + 1;
+  const std::size_t cut = text.find(' ', text.find(' ', last_face + 2) + 1);
+  writeText(dir / "cut.obj", text.substr(0, cut));
+  expectInputError([&] { readQuadMesh((dir / "cut.obj").string()); },
+                   {"cut.obj", "line " + std::to_string(lines), "truncated"});
+  // The same cut, but the writer still closed the line: a face of two vertices.
+  writeText(dir / "short.obj", text.substr(0, cut) + "\n");
+  expectInputError([&] { readQuadMesh((dir / "short.obj").string()); },
+                   {"short.obj", "line " + std::to_string(lines), "at least 3", "it has 2"});
+  writeText(dir / "range.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3 4\n");
+  expectInputError([&] { readQuadMesh((dir / "range.obj").string()); },
+                   {"line 4", "vertex 4", "only 3"});
+  writeText(dir / "junk.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\n0.5 0.5 0\nv 0 1 0\nf 1 2 3 4\n");
+  expectInputError([&] { readQuadMesh((dir / "junk.obj").string()); },
+                   {"line 4", "not an OBJ statement"});
+  writeText(dir / "coord.obj", "v 0 0 0\nv 1 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  expectInputError([&] { readQuadMesh((dir / "coord.obj").string()); },
+                   {"line 2", "needs 3 to 7 numbers, it has 2"});
+  writeText(dir / "nan.obj", "v 0 0 0\nv 1 0 zero\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  expectInputError([&] { readQuadMesh((dir / "nan.obj").string()); },
+                   {"line 2", "'zero' is not a number"});
+  // Continuation lines, comments, negative (relative) indices and texture references are OBJ.
+  writeText(dir / "ok.obj",
+            "# a quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\no sheet\nf -4/1 -3/1 \\\n"
+            "  -2/1 -1/1\n");
+  EXPECT_EQ(readQuadMesh((dir / "ok.obj").string()).numQuads(), 1);
+  // assimp reads a comment after a face as a bad index: said with the line.
+  writeText(dir / "comment.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4 # a quad\n");
+  expectInputError([&] { readQuadMesh((dir / "comment.obj").string()); },
+                   {"line 5", "'#' is not a vertex reference"});
+
+  // PLY: an ASCII body that stops early, and a binary one cut mid-face.
+  std::ifstream pin(ply);
+  const std::string ptext((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
+  writeText(dir / "cut.ply", ptext.substr(0, ptext.size() - 6));
+  expectInputError([&] { readQuadMesh((dir / "cut.ply").string()); },
+                   {"cut.ply", "face 8 of 9", "truncated"});
+  {
+    std::ofstream b(dir / "cut_binary.ply", std::ios::binary);
+    b << "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+         "property float y\nproperty float z\nelement face 1\nproperty list uchar int "
+         "vertex_indices\nend_header\n";
+    const float xyz[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    b.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
+    const unsigned char four = 4;
+    const int corners[2] = {0, 1};  // two of the four indices
+    b.write(reinterpret_cast<const char*>(&four), 1);
+    b.write(reinterpret_cast<const char*>(corners), sizeof corners);
+  }
+  expectInputError([&] { readQuadMesh((dir / "cut_binary.ply").string()); },
+                   {"cut_binary.ply", "face 0 of 1", "truncated"});
+  fs::remove_all(dir);
+}
+
 const char* kGoodScene = R"(
 name: test_scene
 method: fem_shell

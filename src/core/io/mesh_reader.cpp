@@ -9,6 +9,7 @@
 #include <assimp/Importer.hpp>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/io/mesh_file_check.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 #include "cloth_hair_sim/core/mesh/mesh_weld.h"
 #include "cloth_hair_sim/core/subdiv/quad_conversion.h"
@@ -47,6 +48,7 @@ QuadMesh readQuadMesh(const std::string& path, double scale) {
     throw InputError(path + ": scale must be positive, got " + std::to_string(scale));
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such mesh file");
+  checkMeshFileComplete(path);
   Assimp::Importer importer;
   // No post-processing: any triangulating preset would destroy the quads.
   const aiScene* scene = importer.ReadFile(path, 0);

@@ -10,6 +10,7 @@
 #include <assimp/Importer.hpp>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/io/mesh_file_check.h"
 
 namespace chs {
 
@@ -53,6 +54,7 @@ TriangleMesh readTriangleMesh(const std::string& path, const Eigen::Vector3d& sc
   }
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such mesh file");
+  checkMeshFileComplete(path);
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate);
   if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
