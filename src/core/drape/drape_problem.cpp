@@ -4,12 +4,14 @@
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
+#include "cloth_hair_sim/core/mesh/scene_scale.h"
 
 namespace chs {
 
 void DrapeProblem::validate() const {
   material.validate();
   checkMesh(mesh);
+  checkSceneScale(mesh);
   if (!gravity.allFinite()) throw InputError("gravity must be finite");
   const int n = mesh.numVertices();
   auto checkIndex = [n](int v, const char* what) {
