@@ -19,6 +19,7 @@
 #include "drape_tool_runner.h"
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/io/scene.h"
@@ -139,6 +140,51 @@ void expectNoSupportRejected(const Solve& solve) {
   ASSERT_FALSE(msg.empty()) << "no InputError for a problem without support";
   EXPECT_TRUE(msg.find("rigid") != std::string::npos || msg.find("support") != std::string::npos)
       << msg;
+}
+
+// Sizes a robot scene cannot hold: beyond 1 km, or cells below 0.1 mm, are refused with the
+// numbers (a 1e9 m rectangle used to load as 81 vertices of 125 000 km cells).
+TEST(BadInput, SceneScale) {
+  chs::DrapeProblem huge = cantilever();
+  huge.mesh = chs::makeRectangleMesh(1e9, 1e9, 8, 8);
+  expectRejected(huge, {"vertex 0", "km from the world origin", "1 km"});
+  chs::DrapeProblem far = cantilever();
+  for (auto& v : far.mesh.vertices) v.z() += 2000.0;
+  expectRejected(far, {"2 km"});
+  chs::DrapeProblem tiny = cantilever();
+  tiny.mesh = chs::makeRectangleMesh(1e-3, 1e-3, 20, 20);
+  tiny.bc.clamped = chs::verticesOnPlane(tiny.mesh, 0, -5e-4, 1e-12);
+  expectRejected(tiny, {"edge", "0.05 mm long", "0.1 mm"});
+  // Just inside the bounds passes: a sheet 999 m out, and one of 0.2 mm cells.
+  chs::DrapeProblem edge = cantilever();
+  for (auto& v : edge.mesh.vertices) v.x() += 999.0;
+  EXPECT_NO_THROW(edge.validate());
+  chs::DrapeProblem fine = cantilever();
+  fine.mesh = chs::makeRectangleMesh(2e-3, 2e-3, 10, 10);
+  EXPECT_NO_THROW(fine.validate());
+}
+
+// One rule for every name (garments, grasps, colliders): a ROS base name.
+TEST(BadInput, Names) {
+  for (const std::string good : {"towel", "Shirt_2", "a", "left_gripper_grasp"})
+    EXPECT_NO_THROW(chs::checkName(good)) << good;
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"", "a name is needed"},
+      {"my cloth", "a space at position 3"},
+      {"a/b", "'/' at position 2"},
+      {"2nd", "starts with '2'"},
+      {"_x", "starts with '_'"},
+      {"t-shirt", "'-' at position 2"},
+      {std::string(65, 'a'), "longer than 64"}};
+  for (const auto& [name, expect] : bad) {
+    try {
+      chs::checkName(name);
+      ADD_FAILURE() << "'" << name << "' accepted";
+    } catch (const chs::InputError& e) {
+      std::cout << "  '" << name << "': " << e.what() << "\n";
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(BadInput, NoSupportFem) {

@@ -10,6 +10,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/common/names.h"
 
 namespace chs_node {
 namespace {
@@ -171,7 +172,11 @@ std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list) {
       else
         throw chs::InputError(where + ": unknown key '" + key + "'");
     }
-    if (t.name.empty()) throw chs::InputError(where + ": needs a name");
+    try {
+      chs::checkName(t.name);
+    } catch (const chs::InputError& e) {
+      throw chs::InputError(where + ": " + e.what());
+    }
     where = "collider '" + t.name + "'";
     if (t.frame_id.empty()) throw chs::InputError(where + ": needs a frame_id");
     if (!has_shape) throw chs::InputError(where + ": needs a shape");

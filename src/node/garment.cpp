@@ -5,6 +5,7 @@
 #include <map>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/io/mesh_reader.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
@@ -181,7 +182,7 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
                      const Eigen::Isometry3d& world_from_request_frame,
                      const std::map<std::string, Eigen::Isometry3d>& world_from_frames,
                      const SimParams& params) {
-  if (req.name.empty()) throw InputError("a garment needs a name");
+  chs::checkName(req.name);
   Garment g;
   g.name = req.name;
   const Eigen::Isometry3d world_from_mesh = world_from_request_frame * poseFromMsg(req.pose);

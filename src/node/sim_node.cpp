@@ -5,13 +5,13 @@
 #include <limits>
 
 #include <geometry_msgs/WrenchStamped.h>
-#include <ros/names.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "cloth_hair_sim/SimStatus.h"
 #include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/io/scene.h"
 #include "cloth_hair_sim/node/markers.h"
 #include "cloth_hair_sim/node/urdf_colliders.h"
@@ -427,6 +427,13 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
                           cloth_hair_sim::LoadGarment::Response& res) {
   res.success = false;
   const std::string who = "garment '" + req.name + "': ";
+  try {
+    chs::checkName(req.name);
+  } catch (const chs::InputError& e) {
+    res.message = who + e.what();
+    ROS_WARN("%s", res.message.c_str());
+    return true;
+  }
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (garments_.count(req.name)) {
@@ -665,12 +672,13 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
                     cloth_hair_sim::GraspGarment::Response& res) {
   res.success = false;
   const std::string who = "grasp '" + req.name + "': ";
-  std::string error;
-  if (req.name.empty() || req.name.find('/') != std::string::npos ||
-      !ros::names::validate(req.name, error)) {
-    res.message = who + "the name must be a ROS name without '/' (it names the wrench topic)";
+  try {
+    chs::checkName(req.name);
+  } catch (const chs::InputError& e) {
+    res.message = who + e.what();
     return true;
   }
+  std::string error;
   if (!(req.radius > 0.0) || !std::isfinite(req.radius)) {
     res.message = who + "radius must be positive and finite (m)";
     return true;

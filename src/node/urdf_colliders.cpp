@@ -105,7 +105,7 @@ UrdfColliders parseUrdfColliders(const std::string& urdf_xml, const std::string&
     fuseCapsules(shapes);
     for (size_t i = 0; i < shapes.size(); ++i) {
       TrackedCollider t;
-      t.name = shapes.size() == 1 ? link_name : link_name + "/" + std::to_string(i);
+      t.name = shapes.size() == 1 ? link_name : link_name + "_" + std::to_string(i);
       t.frame_id = frame_prefix + link_name;
       t.shape = shapes[i];
       try {

@@ -325,7 +325,8 @@ TEST_F(GraspTest, RefusesBadGrasps) {
       {"b", "rag", "no_such_frame", 0.1, "no_such_frame"},
       {"c", "rag", "world", 0.0, "radius"},
       {"d", "rag", "world", 0.1, "nearest vertex"},  // the rag is 3 m away from the origin
-      {"bad/name", "rag", "world", 0.1, "ROS name"},
+      {"bad/name", "rag", "world", 0.1, "'/' at position 4"},
+      {"my grasp", "rag", "world", 0.1, "a space at position 3"},
   };
   for (const auto& c : cases) {
     cloth_hair_sim::GraspGarment g;

@@ -1,5 +1,7 @@
 // rostest of cloth_hair_sim_node (test/ros/sim_node.test): topics, garment services with good
 // and bad input, pause/step/reset, and a tablecloth drape over a table placed by a static tf.
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <fstream>
@@ -203,8 +205,8 @@ TEST_F(SimNodeTest, ClampsAnEdgeOfARectangle) {
   const auto res = load(req);
   ASSERT_TRUE(res.success) << res.message;
   cloth_hair_sim::SimStatus s;
-  ASSERT_TRUE(listener_.waitStatus(
-      [](const auto& m) { return m.state == "running" && m.steps > 20; }, &s));
+  ASSERT_TRUE(
+      listener_.waitStatus([](const auto& m) { return m.state == "running" && m.steps > 20; }, &s));
   EXPECT_EQ(s.vertices, 25 + 5);
   visualization_msgs::MarkerArray a;
   ASSERT_TRUE(listener_.waitMarkers([](const auto& m) { return findMarker(m, "garments"); }, &a));
@@ -282,6 +284,23 @@ TEST_F(SimNodeTest, RefusesBadGarmentsAndKeepsRunning) {
     auto r = rectangle("no_geometry", 0.1, 4);
     r.rectangle_size.clear();
     cases.push_back({"no geometry", "nothing to load", r});
+  }
+  // One name rule for garments and grasps: names become topics and marker namespaces.
+  cases.push_back({"name with a space", "a space at position 3", rectangle("my cloth", 0.1, 2)});
+  cases.push_back({"name with a slash", "'/' at position 2", rectangle("a/b", 0.1, 2)});
+  cases.push_back({"empty name", "a name is needed", rectangle("", 0.1, 2)});
+  cases.push_back({"1e9 m rectangle", "km from the world origin", rectangle("huge", 1e9, 8)});
+  cases.push_back({"0.05 mm cells", "0.05 mm long", rectangle("tiny", 1e-3, 20)});
+  {
+    // An OBJ whose last face was cut in the middle (it used to load with the faces before it).
+    const std::string path = "/tmp/chs_sim_node_cut_" + std::to_string(getpid()) + ".obj";
+    std::ofstream(path) << "v 0 0 0\nv 0.1 0 0\nv 0.1 0.1 0\nv 0 0.1 0\nv 0.2 0 0\n"
+                           "v 0.2 0.1 0\nf 1 2 3 4\nf 2 5";
+    auto r = rectangle("cut_obj", 0.1, 4);
+    r.rectangle_size.clear();
+    r.rectangle_cells.clear();
+    r.mesh_file = path;
+    cases.push_back({"truncated OBJ", "line 8", r});
   }
   for (const auto& c : cases) {
     const auto res = load(c.req);
