@@ -144,10 +144,10 @@ std::vector<Eigen::Vector3d> StateReader::vectors(const char* what) {
 }
 
 std::vector<Eigen::Vector3d> StateReader::vectors(const char* what, std::size_t expected) {
-  std::vector<Eigen::Vector3d> out(count(what, 24, expected));
-  for (auto& v : out)
-    for (int k = 0; k < 3; ++k) v[k] = real(what);
-  return out;
+  const std::size_t start = pos_;
+  expectCount(what, expected);
+  pos_ = start;
+  return vectors(what);
 }
 
 std::vector<Eigen::Matrix3d> StateReader::matrices(const char* what, std::size_t expected) {
