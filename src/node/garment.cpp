@@ -185,6 +185,9 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
   chs::checkName(req.name);
   Garment g;
   g.name = req.name;
+  g.request = req;
+  g.world_from_request_frame = world_from_request_frame;
+  g.world_from_frames = world_from_frames;
   const Eigen::Isometry3d world_from_mesh = world_from_request_frame * poseFromMsg(req.pose);
   chs::DrapeProblem& p = g.reference;
   p.mesh = garmentMesh(req);

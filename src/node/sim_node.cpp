@@ -13,7 +13,9 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/io/scene.h"
+#include "cloth_hair_sim/core/io/state_file.h"
 #include "cloth_hair_sim/node/markers.h"
+#include "cloth_hair_sim/node/state_io.h"
 #include "cloth_hair_sim/node/urdf_colliders.h"
 
 namespace chs_node {
@@ -65,6 +67,8 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   drape_srv_ = pnh_.advertiseService("drape_solve", &SimNode::drapeSolve, this);
   grasp_srv_ = pnh_.advertiseService("grasp", &SimNode::grasp, this);
   release_srv_ = pnh_.advertiseService("release", &SimNode::release, this);
+  save_state_srv_ = pnh_.advertiseService("save_state", &SimNode::saveState, this);
+  load_state_srv_ = pnh_.advertiseService("load_state", &SimNode::loadState, this);
   step_timer_ =
       nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
   status_timer_ =
@@ -749,6 +753,75 @@ bool SimNode::release(cloth_hair_sim::ReleaseGrasp::Request& req,
                 it->second.garment + "'";
   grasps_.erase(it);
   ROS_INFO("%s", res.message.c_str());
+  return true;
+}
+
+bool SimNode::saveState(cloth_hair_sim::StateFile::Request& req,
+                        cloth_hair_sim::StateFile::Response& res) {
+  res.success = false;
+  if (req.path.empty()) {
+    res.message = "save_state: give the file's path";
+    return true;
+  }
+  std::string payload, summary;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    payload = encodeSimulation(params_.dynamics_backend,
+                               {sim_time_, steps_, paused_, rollbacks_, unconverged_solves_},
+                               garments_, grasps_);
+    summary = std::to_string(garments_.size()) + " garments, " + std::to_string(grasps_.size()) +
+              " grasps at sim time " + std::to_string(sim_time_) + " s";
+  }
+  try {  // the file is written without holding up the simulation
+    chs::writeStateFile(req.path, payload);
+    res.success = true;
+    res.message = "saved " + summary + " to " + req.path;
+    ROS_INFO("%s", res.message.c_str());
+  } catch (const std::exception& e) {
+    res.message = std::string("save_state: ") + e.what();
+    ROS_WARN("%s", res.message.c_str());
+  }
+  return true;
+}
+
+bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
+                        cloth_hair_sim::StateFile::Response& res) {
+  res.success = false;
+  if (req.path.empty()) {
+    res.message = "load_state: give the file's path";
+    return true;
+  }
+  try {
+    // Read, rebuilt and checked before the running simulation is touched.
+    SavedSimulation saved = readSimulation(req.path, params_);
+    std::lock_guard<std::mutex> lock(mutex_);
+    const chs::RigidSurfaces surfaces = colliders_.surfaces();
+    const std::vector<double> frictions = colliders_.frictions();
+    for (auto& [name, g] : saved.garments) {
+      g.dynamics->setColliders(surfaces, {}, frictions);
+      g.generation = next_generation_++;  // a drape solve of the old garment is not applied
+      next_colour_ = std::max(next_colour_, g.colour + 1);
+    }
+    for (auto& [name, grasp] : grasps_) grasp.wrench_pub.shutdown();
+    for (auto& [name, grasp] : saved.grasps)
+      grasp.wrench_pub = pnh_.advertise<geometry_msgs::WrenchStamped>("grasp_wrench/" + name, 10);
+    garments_ = std::move(saved.garments);
+    grasps_ = std::move(saved.grasps);
+    sim_time_ = saved.clock.sim_time;
+    steps_ = saved.clock.steps;
+    paused_ = saved.clock.paused;
+    rollbacks_ = saved.clock.rollbacks;
+    unconverged_solves_ = saved.clock.unconverged_solves;
+    last_ = UpdateStats();
+    res.success = true;
+    res.message = "loaded " + std::to_string(garments_.size()) + " garments, " +
+                  std::to_string(grasps_.size()) + " grasps at sim time " +
+                  std::to_string(sim_time_) + " s from " + req.path + (paused_ ? " (paused)" : "");
+    ROS_INFO("%s", res.message.c_str());
+  } catch (const std::exception& e) {
+    res.message = std::string("load_state refused, the simulation is unchanged: ") + e.what();
+    ROS_WARN("%s", res.message.c_str());
+  }
   return true;
 }
 

@@ -27,6 +27,11 @@ struct Garment {
   int colour = 0;
   // Pins attached to tf frames at load (also pinned in `reference`, where they were at load).
   std::vector<FrameAttachment> frame_pins;
+
+  // What buildGarment made it from, so that a saved state (state_io.h) rebuilds it as it was.
+  cloth_hair_sim::LoadGarment::Request request;
+  Eigen::Isometry3d world_from_request_frame = Eigen::Isometry3d::Identity();
+  std::map<std::string, Eigen::Isometry3d> world_from_frames;
 };
 
 // Rigid pose of a geometry_msgs/Pose; throws chs::InputError for NaN/Inf or a quaternion that

@@ -18,6 +18,7 @@
 #include "cloth_hair_sim/LoadGarment.h"
 #include "cloth_hair_sim/ReleaseGrasp.h"
 #include "cloth_hair_sim/RemoveGarment.h"
+#include "cloth_hair_sim/StateFile.h"
 #include "cloth_hair_sim/StepSim.h"
 #include "cloth_hair_sim/node/collider_tracker.h"
 #include "cloth_hair_sim/node/garment.h"
@@ -62,6 +63,10 @@ class SimNode {
              cloth_hair_sim::GraspGarment::Response& res);
   bool release(cloth_hair_sim::ReleaseGrasp::Request& req,
                cloth_hair_sim::ReleaseGrasp::Response& res);
+  // ~save_state, ~load_state (state_io.h): the whole simulation to or from a file; a refused load
+  // leaves the running simulation as it was.
+  bool saveState(cloth_hair_sim::StateFile::Request& req, cloth_hair_sim::StateFile::Response& res);
+  bool loadState(cloth_hair_sim::StateFile::Request& req, cloth_hair_sim::StateFile::Response& res);
 
   // World pose of a frame that carries vertices (the world frame itself is the identity), at
   // tf_delay_ behind now or else the latest; false and a reason if it cannot be looked up
@@ -116,7 +121,7 @@ class SimNode {
 
   ros::Publisher status_pub_, marker_pub_;
   ros::ServiceServer load_srv_, remove_srv_, list_srv_, reset_srv_, pause_srv_, step_srv_,
-      drape_srv_, grasp_srv_, release_srv_;
+      drape_srv_, grasp_srv_, release_srv_, save_state_srv_, load_state_srv_;
   ros::Timer step_timer_, status_timer_, marker_timer_;
 };
 

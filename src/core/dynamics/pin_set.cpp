@@ -40,4 +40,29 @@ void PinSet::unpin(int vertex) {
   pinned_[vertex] = 0;
 }
 
+void PinSet::write(StateWriter& out) const {
+  out.u64(pinned_.size());
+  std::vector<int> pinned;
+  forEachPinned([&](int v) { pinned.push_back(v); });
+  out.ints(pinned);
+  out.vectors(targets_);
+}
+
+void PinSet::read(StateReader& in) {
+  in.expectCount("pinned vertices: vertex count", pinned_.size());
+  const std::vector<int> pinned = in.ints("pinned vertices");
+  std::vector<Eigen::Vector3d> targets = in.vectors("pin targets", targets_.size());
+  std::vector<char> flags(pinned_.size(), 0);
+  for (int v : pinned) {
+    if (v < 0 || v >= size())
+      in.fail("pinned " + names_.vertex + " " + std::to_string(v) + " out of range (" +
+              std::to_string(size()) + " " + names_.vertices + ")");
+    if (!targets[v].allFinite())
+      in.fail("pinned " + names_.vertex + " " + std::to_string(v) + " has a non-finite target");
+    flags[v] = 1;
+  }
+  pinned_ = std::move(flags);
+  targets_ = std::move(targets);
+}
+
 }  // namespace chs

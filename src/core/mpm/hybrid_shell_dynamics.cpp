@@ -104,6 +104,34 @@ struct HybridSnapshot : DynamicsSnapshot {
   double time = 0.0;
 };
 
+// Particle state of a state file: kinematics always, mass and volume for a set that the model
+// does not rebuild (the solid).
+void writeParticles(StateWriter& out, const mpm::Particles& p, bool with_mass) {
+  out.vectors(p.x);
+  out.vectors(p.v);
+  out.matrices(p.C);
+  out.matrices(p.F);
+  if (!with_mass) return;
+  out.reals(p.mass);
+  out.reals(p.volume0);
+}
+
+// Into a copy of `like` (its mass and volume kept unless with_mass); n: the expected count.
+mpm::Particles readParticles(StateReader& in, const mpm::Particles& like, std::size_t n,
+                             bool with_mass, const char* what) {
+  const std::string w(what);
+  mpm::Particles p = like;
+  p.x = in.vectors((w + " positions").c_str(), n);
+  p.v = in.vectors((w + " velocities").c_str(), n);
+  p.C = in.matrices((w + " affine velocities").c_str(), n);
+  p.F = in.matrices((w + " deformation gradients").c_str(), n);
+  if (with_mass) {
+    p.mass = in.reals((w + " masses").c_str(), n);
+    p.volume0 = in.reals((w + " volumes").c_str(), n);
+  }
+  return p;
+}
+
 }  // namespace
 
 HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
@@ -773,6 +801,68 @@ void HybridShellDynamics::restore(const DynamicsSnapshot& snapshot) {
   solid_material_ = s.solid_material;
   solid_wave_speed_ = s.solid_wave_speed;
   time_ = s.time;
+}
+
+void HybridShellDynamics::writeState(StateWriter& out) const {
+  out.text("hybrid shell");
+  writeParticles(out, control_, false);
+  writeParticles(out, contact_.p, false);
+  out.vectors(contact_.fibre);
+  std::vector<Eigen::Matrix3d> plastic;
+  for (const auto& q : kl_points_) plastic.push_back(q.plasticDeformation());
+  out.matrices(plastic);
+  out.vectors(pin_force_);
+  out.vectors(clamp_residual_);
+  out.vectors(step_start_velocity_);
+  out.u64(solid_.size());
+  if (solid_.size() > 0) {
+    out.real(solid_material_->youngsModulus());
+    out.real(solid_material_->poissonRatio());
+    out.real(solid_wave_speed_);
+    writeParticles(out, solid_, true);
+  }
+  pins_.write(out);
+  out.real(time_);
+}
+
+void HybridShellDynamics::readState(StateReader& in) {
+  in.expectText("hybrid shell", "dynamics backend");
+  const std::size_t nc = control_.x.size(), np = contact_.p.x.size();
+  const mpm::Particles control = readParticles(in, control_, nc, false, "control point");
+  const mpm::Particles contact = readParticles(in, contact_.p, np, false, "contact particle");
+  std::vector<Vec3> fibre = in.vectors("contact fibres", np);
+  const std::vector<Eigen::Matrix3d> plastic =
+      in.matrices("Kirchhoff-Love plastic deformations", kl_points_.size());
+  std::vector<Vec3> pin_force = in.vectors("pin forces", nc);
+  std::vector<Vec3> clamp_residual = in.vectors("clamp residuals", nc);
+  std::vector<Vec3> step_start_velocity = in.vectors("step start velocities", nc);
+  const std::uint64_t solid_count = in.u64("solid particle count");
+  mpm::Particles solid;
+  std::optional<mpm::HenckySolid> solid_material;
+  double solid_wave_speed = 0.0;
+  if (solid_count > 0) {
+    const double young = in.real("solid Young's modulus");
+    const double poisson = in.real("solid Poisson ratio");
+    solid_material.emplace(young, poisson);
+    solid_wave_speed = in.real("solid wave speed");
+    solid = readParticles(in, solid, solid_count, true, "solid particle");
+  }
+  PinSet pins = pins_;
+  pins.read(in);
+  const double time = in.real("hybrid shell time");
+  control_ = control;
+  contact_.p = contact;
+  contact_.fibre = std::move(fibre);
+  for (std::size_t q = 0; q < kl_points_.size(); ++q)
+    kl_points_[q].setPlasticDeformation(plastic[q]);
+  pin_force_ = std::move(pin_force);
+  clamp_residual_ = std::move(clamp_residual);
+  step_start_velocity_ = std::move(step_start_velocity);
+  solid_ = std::move(solid);
+  solid_material_ = std::move(solid_material);
+  solid_wave_speed_ = solid_wave_speed;
+  pins_ = std::move(pins);
+  time_ = time;
 }
 
 void HybridShellDynamics::addSolid(mpm::Particles particles, const mpm::HenckySolid& material) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/particle/particle_contact.h"
@@ -266,6 +267,27 @@ void ParticleDynamics::restore(const DynamicsSnapshot& snapshot) {
   x_ = s.x;
   v_ = s.v;
   time_ = s.time;
+}
+
+void ParticleDynamics::writeState(StateWriter& out) const {
+  out.text("particle network");
+  out.vectors(x_);
+  out.vectors(v_);
+  out.real(time_);
+  pins_.write(out);
+}
+
+void ParticleDynamics::readState(StateReader& in) {
+  in.expectText("particle network", "dynamics backend");
+  std::vector<Eigen::Vector3d> x = in.vectors("particle positions", x_.size());
+  std::vector<Eigen::Vector3d> v = in.vectors("particle velocities", v_.size());
+  const double time = in.real("particle time");
+  PinSet pins = pins_;
+  pins.read(in);
+  x_ = std::move(x);
+  v_ = std::move(v);
+  time_ = time;
+  pins_ = std::move(pins);
 }
 
 DisplaySurface ParticleDynamics::displaySurface() const {

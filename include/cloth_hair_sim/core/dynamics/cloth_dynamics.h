@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>  // cross
 
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/io/state_stream.h"
 
 namespace chs {
 
@@ -72,6 +73,14 @@ class ClothDynamics {
 
   virtual std::unique_ptr<DynamicsSnapshot> snapshot() const = 0;
   virtual void restore(const DynamicsSnapshot& snapshot) = 0;
+  // The whole dynamic state (what snapshot() holds, the pins and their targets, the time) as
+  // records, for a state file; readState takes it into a backend built from the same problem
+  // and settings, which then steps on bit for bit as the saved one would have (colliders are
+  // the caller's: set them again). readState throws InputError for a record of another backend,
+  // a count that does not match this model or a truncated record, and then leaves the state as
+  // it was.
+  virtual void writeState(StateWriter& out) const = 0;
+  virtual void readState(StateReader& in) = 0;
 
   virtual DisplaySurface displaySurface() const = 0;
 };

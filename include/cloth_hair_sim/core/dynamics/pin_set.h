@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 
+#include "cloth_hair_sim/core/io/state_stream.h"
+
 namespace chs {
 
 // The vertices a dynamics backend holds on a prescribed motion, and where each is held: a
@@ -36,6 +38,12 @@ class PinSet {
   void unpin(int vertex);
   bool isPinned(int vertex) const { return pinned_.at(vertex) != 0; }
   const Eigen::Vector3d& target(int vertex) const { return targets_[vertex]; }
+
+  // The pinned vertices and their targets, as records of a state file. read() refuses a record
+  // of another size or with an index out of range or a non-finite target (InputError), leaving
+  // the set as it was.
+  void write(StateWriter& out) const;
+  void read(StateReader& in);
 
   // Calls f(vertex) for each pinned vertex in increasing order.
   template <class F>

@@ -154,6 +154,8 @@ class HybridShellDynamics : public ClothDynamics {
 
   std::unique_ptr<DynamicsSnapshot> snapshot() const override;
   void restore(const DynamicsSnapshot& snapshot) override;
+  void writeState(StateWriter& out) const override;
+  void readState(StateReader& in) override;
   // The limit surface tessellated with settings.display_segments per face edge.
   DisplaySurface displaySurface() const override;
 

@@ -85,6 +85,8 @@ class ParticleDynamics : public ClothDynamics {
       const std::vector<Eigen::Vector3d>& accelerations = {}) const override;
   std::unique_ptr<DynamicsSnapshot> snapshot() const override;
   void restore(const DynamicsSnapshot& snapshot) override;
+  void writeState(StateWriter& out) const override;
+  void readState(StateReader& in) override;
   // The quads split into triangles over the current positions.
   DisplaySurface displaySurface() const override;
 
