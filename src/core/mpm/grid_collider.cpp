@@ -17,17 +17,22 @@ Eigen::Vector3d collideRelativeVelocity(const Eigen::Vector3d& v_rel, const Eige
   return vt * (reduced / vt_norm);
 }
 
-void applyGridColliders(SparseGrid& grid, const std::vector<GridCollider>& colliders) {
+void applyGridColliders(SparseGrid& grid, const std::vector<GridCollider>& colliders,
+                        std::vector<ColliderImpulse>* impulses) {
+  if (impulses) impulses->resize(colliders.size());
   for (int i = 0; i < grid.size(); ++i) {
     if (grid.mass[i] <= 0.0) continue;
     const Eigen::Vector3d x = grid.position(i);
-    for (const GridCollider& c : colliders) {
+    for (std::size_t k = 0; k < colliders.size(); ++k) {
+      const GridCollider& c = colliders[k];
       const SurfaceProjection p = c.surface->project(x);
       if (p.gap > 0.0) continue;
       const Eigen::Vector3d vc = c.velocity.at(x);
+      const Eigen::Vector3d before = grid.momentum[i];
       grid.velocity[i] =
           vc + collideRelativeVelocity(grid.velocity[i] - vc, p.normal, c.boundary, c.friction);
       grid.momentum[i] = grid.mass[i] * grid.velocity[i];
+      if (impulses) (*impulses)[k].add(x, grid.momentum[i] - before);
     }
   }
 }

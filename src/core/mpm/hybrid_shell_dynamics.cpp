@@ -20,6 +20,7 @@
 #include "cloth_hair_sim/core/mpm/grid_forces.h"
 #include "cloth_hair_sim/core/mpm/grid_interpolation.h"
 #include "cloth_hair_sim/core/mpm/mass_supported_gradient.h"
+#include "cloth_hair_sim/core/mpm/node_sums.h"
 #include "cloth_hair_sim/core/mpm/transfers.h"
 
 namespace chs {
@@ -252,6 +253,14 @@ void HybridShellDynamics::step(double dt) {
 }
 
 void HybridShellDynamics::advance(double dt, bool implicit) {
+  beginStep(dt);
+  transferToGrid();
+  updateGrid(dt, implicit);
+  transferFromGrid(dt);
+  endStep(dt);
+}
+
+void HybridShellDynamics::beginStep(double dt) {
   // Pins carry their control points to the target at constant velocity over this step.
   pins_.forEachPinned([&](int p) {
     step_start_velocity_[p] = control_.v[p];
@@ -261,26 +270,39 @@ void HybridShellDynamics::advance(double dt, bool implicit) {
     step_start_velocity_[c.boundary] = control_.v[c.boundary];
     step_start_velocity_[c.ghost] = control_.v[c.ghost];
   }
-  {
-    StageTimer t(times_.transfer_to_grid);
-    transferToGrid();
-  }
-  if (!implicit) {
-    {
-      StageTimer t(times_.shell_forces);
-      computeGridForces();
-    }
-    StageTimer t(times_.grid_update);
-    updateGridMomentum(dt);
-  } else {
+  collider_impulse_.assign(grid_colliders_.size(), mpm::ColliderImpulse());
+}
+
+bool HybridShellDynamics::updateGrid(double dt) {
+  return updateGrid(dt, settings_.integration == TimeIntegration::kBackwardEuler);
+}
+
+bool HybridShellDynamics::updateGrid(double dt, bool implicit) {
+  if (implicit) {
     StageTimer t(times_.grid_update);
     solveGridMomentum(dt);
+    return last_solve_.converged();
   }
   {
-    StageTimer t(times_.transfer_to_particles);
-    transferToParticles(dt);
-    updatePositionsAndTrialState(dt);
+    StageTimer t(times_.shell_forces);
+    computeGridForces();
   }
+  StageTimer t(times_.grid_update);
+  updateGridMomentum(dt);
+  return true;
+}
+
+void HybridShellDynamics::reapplyColliders() {
+  mpm::applyGridColliders(grid_, grid_colliders_, &collider_impulse_);
+}
+
+void HybridShellDynamics::transferFromGrid(double dt) {
+  StageTimer t(times_.transfer_to_particles);
+  transferToParticles(dt);
+  updatePositionsAndTrialState(dt);
+}
+
+void HybridShellDynamics::endStep(double dt) {
   {
     StageTimer t(times_.plasticity);
     updatePlasticity();
@@ -297,6 +319,7 @@ void HybridShellDynamics::advance(double dt, bool implicit) {
 // set: where their supports overlap the cloth's, the nodes carry both, and that shared velocity
 // is the two-way coupling.
 void HybridShellDynamics::transferToGrid() {
+  StageTimer t(times_.transfer_to_grid);
   transfer_mass_ = control_.mass;
   for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
     transfer_mass_[c.interior] +=
@@ -457,7 +480,7 @@ void HybridShellDynamics::scatterTrialSolidStress(const std::vector<Vec3>& node_
 void HybridShellDynamics::updateGridMomentum(double dt) {
   dampGridMomentum(dt);
   mpm::updateGridVelocity(grid_, gravity_, dt);
-  mpm::applyGridColliders(grid_, grid_colliders_);
+  mpm::applyGridColliders(grid_, grid_colliders_, &collider_impulse_);
 }
 
 // Viscous damping acts on the incoming momentum m_i v_i^n, taken implicitly so that it never
@@ -517,7 +540,7 @@ void HybridShellDynamics::solveGridMomentum(double dt) {
     grid_.velocity[i] = node_velocity[i];
     grid_.momentum[i] = grid_.mass[i] * node_velocity[i];
   }
-  mpm::applyGridColliders(grid_, grid_colliders_);
+  mpm::applyGridColliders(grid_, grid_colliders_, &collider_impulse_);
 }
 
 // Han (5.50)-(5.53): velocities and affine velocities from the grid; control points move with
@@ -561,9 +584,10 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
     pin_force_[p].setZero();
     if (clamps_.isSlaved(p)) continue;  // placed below, from their interior neighbours
     for (int a = 0; a < 3; ++a)
-      if (free_axes_[p][a] == 0.0) {
+      if (free_axes_[p][a] == 0.0) {  // held on axis a: v_a and its affine part C_a. vanish
         control_.x[p][a] = reference_[p][a];
         control_.v[p][a] = 0.0;
+        control_.C[p].row(a).setZero();
       }
     // The grid conditions act on nodes inside an obstacle only: a control point on the surface
     // also draws on the free nodes above it, so it ends the step slightly inside and slid by
@@ -582,8 +606,10 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
       const Vec3 vc = gc.velocity.at(control_.x[p]);
       const Vec3 v_rel = control_.v[p] - vc;
       if (v_rel.dot(pr.normal) < 0.0) {
+        const Vec3 before = control_.v[p];
         control_.v[p] =
             vc + mpm::collideRelativeVelocity(v_rel, pr.normal, gc.boundary, gc.friction);
+        collider_impulse_[c].add(control_.x[p], control_.mass[p] * (control_.v[p] - before));
         control_.C[p].setZero();
         control_.x[p] = x_start + dt * control_.v[p];
       }
@@ -686,6 +712,24 @@ void HybridShellDynamics::setVelocities(const std::vector<Vec3>& v) {
     contact_.p.v[p] = contact_.stencil.position(p, control_.v);
     contact_.p.C[p].setZero();
   }
+}
+
+void HybridShellDynamics::fieldNormals(std::vector<Vec3>& normals) const {
+  normals.assign(grid_.size(), Vec3::Zero());
+  std::vector<Vec3> n(contact_.size());
+  for (int p = 0; p < contact_.size(); ++p) {
+    Vec3 a1, a2;
+    contact_.stencil.tangents(p, control_.x, a1, a2);
+    n[p] = a1.cross(a2).normalized();
+  }
+  mpm::sumOverSupports(grid_, contact_.p.x, n, supports_[1], settings_.kernel_degree, normals);
+}
+
+bool HybridShellDynamics::finite() const {
+  for (const auto* set : {&control_, &solid_})
+    for (int p = 0; p < set->size(); ++p)
+      if (!set->x[p].allFinite() || !set->v[p].allFinite()) return false;
+  return true;
 }
 
 double HybridShellDynamics::kineticEnergy() const {

@@ -29,8 +29,21 @@ struct GridCollider {
 Eigen::Vector3d collideRelativeVelocity(const Eigen::Vector3d& v_rel, const Eigen::Vector3d& n,
                                         ColliderBoundary boundary, double friction);
 
+// Momentum a collider gave a body (sum of m dv over the nodes or particles it acted on) and its
+// moment about the world origin (sum of x x m dv); the collider takes the opposite.
+struct ColliderImpulse {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+  void add(const Eigen::Vector3d& x, const Eigen::Vector3d& momentum_change) {
+    linear += momentum_change;
+    angular += x.cross(momentum_change);
+  }
+};
+
 // Applies every collider to every grid node with mass whose position lies inside it (signed
-// distance <= 0), after the grid velocity update and before grid-to-particle.
-void applyGridColliders(SparseGrid& grid, const std::vector<GridCollider>& colliders);
+// distance <= 0), after the grid velocity update and before grid-to-particle. With `impulses`
+// (one per collider) the momentum each collider gives the nodes is added to it.
+void applyGridColliders(SparseGrid& grid, const std::vector<GridCollider>& colliders,
+                        std::vector<ColliderImpulse>* impulses = nullptr);
 
 }  // namespace chs::mpm

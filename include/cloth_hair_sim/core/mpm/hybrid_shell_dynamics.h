@@ -23,6 +23,7 @@
 #include "cloth_hair_sim/core/subdiv/clamped_edges.h"
 #include "cloth_hair_sim/core/subdiv/first_order_stencils.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
+#include "cloth_hair_sim/core/world/body.h"
 
 namespace chs {
 
@@ -98,7 +99,11 @@ struct HybridStageTimes {
 //   -> positions and trial elastic state (5.53-5.54, 5.44) -> plasticity (5.5.5).
 // With backward Euler the grid forces and the grid momentum are one stage, a Newton-Krylov solve
 // for the end-of-step grid velocities.
-class HybridShellDynamics : public ClothDynamics {
+//
+// As a Body of a World (world/world.h) the same stages run interleaved with the other bodies'
+// (its grid is then its velocity field on the world's grid, of the world's spacing); step() runs
+// them for this shell alone.
+class HybridShellDynamics : public ClothDynamics, public Body {
  public:
   // Uses the problem's mesh (reference state), material (E, nu, thickness, areal density),
   // gravity, colliders, pinned vertices (held where they are), clamped vertices (limit
@@ -112,6 +117,23 @@ class HybridShellDynamics : public ClothDynamics {
 
   void step(double dt) override;
   double time() const override { return time_; }
+
+  // Body stages (world/body.h); updateGrid integrates as settings().integration says.
+  void beginStep(double dt) override;
+  void transferToGrid() override;
+  bool updateGrid(double dt) override;
+  void reapplyColliders() override;
+  void transferFromGrid(double dt) override;
+  void endStep(double dt) override;
+  mpm::SparseGrid& field() override { return grid_; }
+  std::vector<mpm::MassCarriers> fieldCarriers() const override { return massCarriers(); }
+  // The limit surface's normals at the contact particles, spread with their weights.
+  void fieldNormals(std::vector<Eigen::Vector3d>& normals) const override;
+  int kernelDegree() const override { return settings_.kernel_degree; }
+  bool finite() const override;
+  const std::vector<mpm::ColliderImpulse>& colliderImpulses() const override {
+    return collider_impulse_;
+  }
   // Symplectic Euler: min(elastic bound (membrane and bending waves over the control spacing,
   // fibre contact, the solid's dilatational wave over dx) times settings.safety, CFL cfl dx /
   // max speed of control and solid particles). Backward Euler: min(settings.max_time_step, CFL);
@@ -176,7 +198,7 @@ class HybridShellDynamics : public ClothDynamics {
   int numQuadraturePoints() const { return static_cast<int>(kl_points_.size()); }
   int numGridNodes() const { return grid_.size(); }
   double totalMass() const;  // control, contact and solid particles
-  Eigen::Vector3d linearMomentum() const;
+  Eigen::Vector3d linearMomentum() const override;
   Eigen::Vector3d angularMomentum() const;  // about the origin, particles' x m v + APIC spin
   double elasticEnergy() const;             // Kirchhoff-Love lamina energy now
   // Deepest penetration of the tessellated limit surface into the colliders (>= 0).
@@ -193,10 +215,10 @@ class HybridShellDynamics : public ClothDynamics {
  private:
   // One step of the stages below: symplectic Euler, or backward Euler if `implicit`.
   void advance(double dt, bool implicit);
+  bool updateGrid(double dt, bool implicit);
   double explicitTimeStep() const;  // elastic bound times safety, and CFL
   double cflTimeStep() const;
   // The stages of step(), Han section 5.5.
-  void transferToGrid();
   void computeGridForces();
   void updateGridMomentum(double dt);
   void solveGridMomentum(double dt);  // backward Euler: computeGridForces + updateGridMomentum
@@ -271,6 +293,7 @@ class HybridShellDynamics : public ClothDynamics {
   std::vector<Eigen::Vector3d> trial_control_, trial_shift_, trial_fibre_;
   std::vector<Eigen::Matrix3d> solid_gradient_, solid_stress_;  // grad v and V^0 P(F*) F^nT
   NewtonKrylovResult last_solve_;
+  std::vector<mpm::ColliderImpulse> collider_impulse_;  // per collider, this step
   int implicit_fallbacks_ = 0;
 
   double time_ = 0.0;
