@@ -233,10 +233,14 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
 }
 
 void resetDynamics(Garment& g, const SimParams& params) {
-  if (params.dynamics_backend == "mpm")
-    g.dynamics = std::make_unique<chs::HybridShellDynamics>(g.reference, params.mpm);
-  else
-    g.dynamics = std::make_unique<chs::ParticleDynamics>(g.reference, params.particle);
+  g.body.reset();
+  if (params.dynamics_backend == "mpm") {
+    auto shell = std::make_shared<chs::HybridShellDynamics>(g.reference, params.mpm);
+    g.dynamics = shell;
+    g.body = shell;
+  } else {
+    g.dynamics = std::make_shared<chs::ParticleDynamics>(g.reference, params.particle);
+  }
 }
 
 }  // namespace chs_node

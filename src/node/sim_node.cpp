@@ -56,6 +56,17 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
     throw chs::InputError("parameter tf_delay must be >= 0 (s)");
   colliders_.setColliders(withUrdfColliders(pnh_, collidersParam(pnh_)));
 
+  world_ = chs::World(params_.world);
+  for (const auto& c : colliders_.colliders()) {
+    try {
+      chs::checkName(c.name);
+    } catch (const chs::InputError& e) {  // a URDF link's name need not be a topic name
+      ROS_WARN("collider '%s': no ~collider_wrench topic: %s", c.name.c_str(), e.what());
+      continue;
+    }
+    collider_wrench_pubs_[c.name] =
+        pnh_.advertise<geometry_msgs::WrenchStamped>("collider_wrench/" + c.name, 10);
+  }
   status_pub_ = pnh_.advertise<cloth_hair_sim::SimStatus>("status", 10);
   marker_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1);
   load_srv_ = pnh_.advertiseService("load_garment", &SimNode::loadGarment, this);
@@ -95,7 +106,32 @@ void SimNode::refreshColliders() {
     return;
   }
   const std::vector<double> frictions = colliders_.frictions();
-  for (auto& [name, g] : garments_) g.dynamics->setColliders(surfaces, {}, frictions);
+  setColliders(surfaces, {}, frictions);
+  active_colliders_.clear();
+  for (const auto& c : colliders_.colliders())
+    if (c.has_pose) active_colliders_.push_back(c.name);
+}
+
+void SimNode::setColliders(const chs::RigidSurfaces& surfaces,
+                           const std::vector<chs::SurfaceVelocity>& velocities,
+                           const std::vector<double>& frictions) {
+  for (auto& [name, g] : garments_)
+    if (!g.body) g.dynamics->setColliders(surfaces, velocities, frictions);
+  world_.setColliders(surfaces, velocities, frictions);
+}
+
+SimParams SimNode::garmentParams() const {
+  SimParams p = params_;
+  if (world_.gridSpacing() > 0.0) p.mpm.grid_spacing = world_.gridSpacing();
+  return p;
+}
+
+chs::World SimNode::worldOf(const std::map<std::string, Garment>& garments) const {
+  chs::World world(params_.world);
+  world.setColliders(colliders_.surfaces(), {}, colliders_.frictions());
+  for (const auto& [name, g] : garments)
+    if (g.body) world.add(name, g.body);
+  return world;
 }
 
 double SimNode::substepLimit() const {
@@ -140,6 +176,88 @@ void SimNode::stepGarment(Garment& g, double h, int depth) {
                      h);
 }
 
+void SimNode::stepWorld(double h, int depth) {
+  if (world_.numBodies() == 0) return;
+  const chs::World::Snapshot before = world_.snapshot();
+  const chs::WorldStepReport report = world_.step(h);
+  std::vector<Garment*> diverging;
+  for (auto& [name, g] : garments_)
+    if (g.body && diverged(g)) diverging.push_back(&g);
+  if (diverging.empty() && report.converged) {
+    addColliderLoads(h);
+    return;
+  }
+  // A diverged step, or an implicit solve short of its tolerance (whose iterate can let layers
+  // pass through each other): the whole world goes back and takes the step as two halves.
+  world_.restore(before);
+  if (!report.converged) {
+    ++unconverged_solves_;
+    ROS_WARN_THROTTLE(5.0,
+                      "garments %s: implicit solve short of its tolerance at dt %g s; redone "
+                      "as two half steps",
+                      joined(report.unconverged).c_str(), h);
+  }
+  if (!diverging.empty()) ++rollbacks_;
+  if (depth < 4) {
+    stepWorld(0.5 * h, depth + 1);
+    stepWorld(0.5 * h, depth + 1);
+    return;
+  }
+  if (diverging.empty()) {  // the solve still falls short at a sixteenth: its iterate is kept
+    world_.step(h);
+    addColliderLoads(h);
+    return;
+  }
+  // Still diverging at a sixteenth of the step: those garments stop where they were and the
+  // world waits for them this substep rather than publish garbage; the node carries on.
+  for (Garment* g : diverging) {
+    g->dynamics->setVelocities(
+        std::vector<Eigen::Vector3d>(g->dynamics->numVertices(), Eigen::Vector3d::Zero()));
+    ROS_ERROR_THROTTLE(5.0, "garment '%s' diverges even at dt %g s: stopped in place",
+                       g->name.c_str(), h);
+  }
+}
+
+void SimNode::addColliderLoads(double h) {
+  const std::vector<chs::ColliderLoad> loads = world_.colliderLoads();
+  for (std::size_t c = 0; c < loads.size() && c < active_colliders_.size(); ++c) {
+    ColliderLoadSum& sum = collider_loads_[active_colliders_[c]];
+    sum.force += h * loads[c].force;
+    sum.moment += h * loads[c].moment;
+    sum.duration += h;
+  }
+}
+
+void SimNode::publishColliderWrenches() {
+  const ros::Time now = ros::Time::now();
+  for (const auto& c : colliders_.colliders()) {
+    const auto pub = collider_wrench_pubs_.find(c.name);
+    const auto sum = collider_loads_.find(c.name);
+    if (!c.has_pose || pub == collider_wrench_pubs_.end() || sum == collider_loads_.end() ||
+        sum->second.duration <= 0.0)
+      continue;
+    // What the collider takes from the garments over the update, in its own frame about its
+    // origin, as a force-torque sensor in the link would report it.
+    chs::ColliderLoad mean;
+    mean.force = sum->second.force / sum->second.duration;
+    mean.moment = sum->second.moment / sum->second.duration;
+    const Eigen::Matrix3d r = c.world_from_frame.linear();
+    const Eigen::Vector3d f = r.transpose() * mean.force;
+    const Eigen::Vector3d t = r.transpose() * mean.momentAbout(c.world_from_frame.translation());
+    geometry_msgs::WrenchStamped msg;
+    msg.header.stamp = now;
+    msg.header.frame_id = c.frame_id;
+    msg.wrench.force.x = f.x();
+    msg.wrench.force.y = f.y();
+    msg.wrench.force.z = f.z();
+    msg.wrench.torque.x = t.x();
+    msg.wrench.torque.y = t.y();
+    msg.wrench.torque.z = t.z();
+    pub->second.publish(msg);
+  }
+  collider_loads_.clear();
+}
+
 void SimNode::advance(int count, double h) {
   // Kinematic inputs (tf-posed colliders, frame pins, grasps) move from their pose at the start
   // of the update to the current one across its substeps, colliders with the matching velocity:
@@ -181,12 +299,14 @@ void SimNode::advance(int count, double h) {
           velocities.push_back(rigidVelocity(m.from, to, duration));
           velocities.back().origin = pose.translation();
         }
-        for (auto& [name, g] : garments_) g.dynamics->setColliders(surfaces, velocities, frictions);
+        setColliders(surfaces, velocities, frictions);
       } catch (const std::exception&) {  // refreshColliders has logged it: no interpolation
         any_moving = false;
       }
     }
-    for (auto& [name, g] : garments_) stepGarment(g, h, 0);
+    for (auto& [name, g] : garments_)
+      if (!g.body) stepGarment(g, h, 0);
+    stepWorld(h, 0);
     for (auto& [name, grasp] : grasps_) {
       const auto it = garments_.find(grasp.garment);
       if (it == garments_.end()) continue;
@@ -356,6 +476,7 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   last_.wall_per_step = wall / n;
   last_.real_time_factor = n * h / std::max(elapsed, wall);
   publishGraspWrenches(n * h);
+  publishColliderWrenches();
 }
 
 void SimNode::onStatusTimer(const ros::TimerEvent&) {
@@ -473,12 +594,18 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     }
   }
   try {
-    Garment g = buildGarment(req, world_from_frame, attach_frames, params_);
+    SimParams params;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      params = garmentParams();
+    }
+    Garment g = buildGarment(req, world_from_frame, attach_frames, params);
     std::lock_guard<std::mutex> lock(mutex_);
     if (garments_.count(req.name)) {
       res.message = who + "a garment of that name was loaded meanwhile";
       return true;
     }
+    if (g.body) world_.add(req.name, g.body);  // refuses a garment that does not fit the grid
     g.generation = next_generation_++;
     g.colour = next_colour_++;
     g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
@@ -502,6 +629,7 @@ bool SimNode::removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
                             cloth_hair_sim::RemoveGarment::Response& res) {
   std::lock_guard<std::mutex> lock(mutex_);
   res.success = garments_.erase(req.name) > 0;
+  world_.remove(req.name);
   res.message = "garment '" + req.name + "': " + (res.success ? "removed" : "not loaded");
   const std::vector<std::string> dropped = dropGrasps(req.name);
   if (!dropped.empty()) res.message += "; grasps released: " + joined(dropped);
@@ -523,8 +651,9 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<std::string> released;
   try {
+    const SimParams params = garmentParams();
     for (auto& [name, g] : garments_) {
-      resetDynamics(g, params_);
+      resetDynamics(g, params);
       g.generation = next_generation_++;
       g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
       // A garment hanging from frames restarts where its first frame has carried it since load
@@ -548,7 +677,9 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
       // Grasps held the old state: released.
       for (const auto& n : dropGrasps(name)) released.push_back(n);
     }
+    world_ = worldOf(garments_);
   } catch (const std::exception& e) {
+    world_ = worldOf(garments_);  // the garments reset before the failure, with the others
     res.success = false;
     res.message = e.what();
     return true;
@@ -805,7 +936,9 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
     for (auto& [name, grasp] : grasps_) grasp.wrench_pub.shutdown();
     for (auto& [name, grasp] : saved.grasps)
       grasp.wrench_pub = pnh_.advertise<geometry_msgs::WrenchStamped>("grasp_wrench/" + name, 10);
+    chs::World world = worldOf(saved.garments);  // refuses garments that do not fit one grid
     garments_ = std::move(saved.garments);
+    world_ = std::move(world);
     grasps_ = std::move(saved.grasps);
     sim_time_ = saved.clock.sim_time;
     steps_ = saved.clock.steps;

@@ -111,6 +111,15 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   loadHybridShellSettings(ros::NodeHandle(nh, "mpm"), p.mpm);
   p.mpm.damping = p.damping;
   p.mpm.max_time_step = p.dt;  // backward Euler's step: ~dt, shortened by the CFL condition
+  const ros::NodeHandle mpm(nh, "mpm");
+  mpm.param("body_friction", p.world.body_friction, p.world.body_friction);
+  mpm.param("contact_distance", p.world.contact_distance, p.world.contact_distance);
+  p.world.grid_spacing = p.mpm.grid_spacing;
+  p.world.kernel_degree = p.mpm.kernel_degree;
+  if (!(p.world.body_friction >= 0.0) || !std::isfinite(p.world.body_friction))
+    throw chs::InputError("parameter ~mpm/body_friction must be >= 0");
+  if (!std::isfinite(p.world.contact_distance))
+    throw chs::InputError("parameter ~mpm/contact_distance must be finite");
   return p;
 }
 

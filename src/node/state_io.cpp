@@ -198,8 +198,12 @@ SavedSimulation readSimulation(const std::string& path, const SimParams& params)
   s.clock.rollbacks = static_cast<int>(in.u64("rollback count"));
   s.clock.unconverged_solves = static_cast<int>(in.u64("unconverged solve count"));
   const std::uint64_t n_garments = in.u64("garment count");
+  // The garments share one world: the first one's grid spacing, unless ~mpm/grid_spacing sets one.
+  SimParams shared = params;
   for (std::uint64_t k = 0; k < n_garments; ++k) {
-    Garment g = readGarment(in, params);
+    Garment g = readGarment(in, shared);
+    if (shared.mpm.grid_spacing <= 0.0 && g.body)
+      shared.mpm.grid_spacing = g.body->field().spacing();
     const std::string name = g.name;
     if (!s.garments.emplace(name, std::move(g)).second) in.fail("garment '" + name + "' twice");
   }

@@ -21,7 +21,9 @@ struct Garment {
   std::string name;
   std::string material_name;
   chs::DrapeProblem reference;
-  std::unique_ptr<chs::ClothDynamics> dynamics;
+  std::shared_ptr<chs::ClothDynamics> dynamics;
+  // The same object as a body of the node's world (the mpm backend), or null (particle).
+  std::shared_ptr<chs::Body> body;
 
   std::uint64_t generation = 0;  // set anew on load and reset: a finished drape checks it
   int colour = 0;
@@ -47,7 +49,8 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
                      const SimParams& params);
 
 // A fresh dynamic state at the garment's reference (reset), with the backend the parameters
-// name. Throws chs::InputError when the backend refuses the garment.
+// name (an mpm garment on a grid of params.mpm.grid_spacing, the world's once it has one).
+// Throws chs::InputError when the backend refuses the garment.
 void resetDynamics(Garment& garment, const SimParams& params);
 
 }  // namespace chs_node

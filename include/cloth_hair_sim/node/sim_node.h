@@ -83,6 +83,21 @@ class SimNode {
 
   // Under mutex_: colliders from tf into every garment.
   void refreshColliders();
+  // Under mutex_: obstacles for the world's garments and the others.
+  void setColliders(const chs::RigidSurfaces& surfaces,
+                    const std::vector<chs::SurfaceVelocity>& velocities,
+                    const std::vector<double>& frictions);
+  // Under mutex_: the parameters a garment is built with: on the world's grid once it has one.
+  SimParams garmentParams() const;
+  // A world holding the mpm garments (throws chs::InputError for one that does not fit).
+  chs::World worldOf(const std::map<std::string, Garment>& garments) const;
+  // Under mutex_: one substep of the world's garments together; a diverged step or an implicit
+  // solve short of its tolerance is rolled back and retried as two halves, a few levels deep.
+  void stepWorld(double h, int depth);
+  // Under mutex_: the colliders' loads of the last world step, into this update's sums.
+  void addColliderLoads(double h);
+  // Under mutex_: ~collider_wrench/<name>: each collider's mean load over the update.
+  void publishColliderWrenches();
   // Under mutex_: advances every garment by `count` substeps of h.
   void advance(int count, double h);
   // Under mutex_: one substep of one garment; a diverged step is rolled back and retried as two
@@ -100,6 +115,15 @@ class SimNode {
   std::mutex mutex_;
   ColliderTracker colliders_;
   std::map<std::string, Garment> garments_;
+  // The mpm garments as bodies of one world: one grid, contact and friction between them.
+  chs::World world_;
+  std::vector<std::string> active_colliders_;  // the world's collider order (those with a pose)
+  struct ColliderLoadSum {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
+    double duration = 0.0;
+  };
+  std::map<std::string, ColliderLoadSum> collider_loads_;  // this update's, per collider
+  std::map<std::string, ros::Publisher> collider_wrench_pubs_;
   std::map<std::string, Grasp> grasps_;
   // Collider poses at the start of the current update: colliders move from there to their
   // current pose over the update's substeps, with the velocity that takes.

@@ -6,6 +6,7 @@
 
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
 #include "cloth_hair_sim/core/particle/particle_dynamics.h"
+#include "cloth_hair_sim/core/world/world.h"
 
 namespace chs_node {
 
@@ -29,6 +30,9 @@ struct SimParams {
   // Backend settings: ~damping goes to both; the hybrid shell's own under ~mpm/.
   chs::ParticleDynamicsSettings particle;
   chs::HybridShellSettings mpm;
+  // The one world the mpm garments share (grid spacing and kernel from ~mpm/, contact between
+  // garments: ~mpm/body_friction, ~mpm/contact_distance).
+  chs::WorldSettings world;
 };
 
 // Reads ~ parameters over the defaults; throws chs::InputError naming a bad one.

@@ -1,0 +1,110 @@
+#!/usr/bin/python3
+"""rostest (test/ros/world.test): the node keeps its garments in one world. A sheet resting on
+the table reports its weight on ~collider_wrench/table (the tactile reading), and a second sheet
+dropped onto it comes to rest on it instead of passing through to the table."""
+import time
+import unittest
+
+import rospy
+import rostest
+from cloth_hair_sim.msg import SimStatus
+from cloth_hair_sim.srv import LoadGarment, LoadGarmentRequest, RemoveGarment
+from geometry_msgs.msg import WrenchStamped
+from latest_message import LatestMessage
+from visualization_msgs.msg import MarkerArray
+
+TABLE_TOP = 0.5
+G = 9.81
+AREAL_DENSITY = 0.2
+
+
+def sheet(name, size, cells, z):
+    req = LoadGarmentRequest(name=name, rectangle_size=[size, size], rectangle_cells=[cells, cells],
+                             young=1e5, poisson=0.3, thickness=5e-4, areal_density=AREAL_DENSITY)
+    req.pose.position.z = z
+    req.pose.orientation.w = 1.0
+    return req
+
+
+class WorldNode(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.wait_for_service('/sim/load_garment', timeout=30.0)
+        cls.load = rospy.ServiceProxy('/sim/load_garment', LoadGarment)
+        cls.remove = rospy.ServiceProxy('/sim/remove_garment', RemoveGarment)
+        cls.status = LatestMessage('/sim/status', SimStatus)
+        cls.markers = LatestMessage('/sim/markers', MarkerArray)
+        cls.wrenches = []
+        rospy.Subscriber('/sim/collider_wrench/table', WrenchStamped, cls.wrenches.append)
+
+    def run_for(self, sim_seconds):
+        start = None
+        deadline = time.time() + 60.0
+        while time.time() < deadline:
+            s = self.status.get()
+            if s is not None:
+                start = s.sim_time if start is None else start
+                if s.sim_time - start >= sim_seconds:
+                    return s
+            time.sleep(0.05)
+        self.fail('the simulation did not advance %.1f s' % sim_seconds)
+
+    def mean_force_z(self, wall_seconds):
+        del self.wrenches[:]
+        time.sleep(wall_seconds)
+        samples = [w.wrench.force.z for w in self.wrenches]
+        self.assertGreater(len(samples), 5)
+        self.assertTrue(all(w.header.frame_id == 'table' for w in self.wrenches))
+        return sum(samples) / len(samples), len(samples)
+
+    def garment_heights(self):
+        """Mean and lowest marker z of each garment, by marker id (the garments' load order)."""
+        m = self.markers.get()
+        out = {}
+        for marker in m.markers:
+            if marker.ns == 'garments' and marker.points:
+                z = [p.z for p in marker.points]
+                out[marker.id] = (sum(z) / len(z), min(z), max(z))
+        return out
+
+    def test_a_sheet_on_the_table_reports_its_weight(self):
+        size = 0.08
+        res = self.load(sheet('cloth', size, 5, TABLE_TOP + 0.002))
+        self.assertTrue(res.success, res.message)
+        self.run_for(1.0)
+        force_z, n = self.mean_force_z(1.0)
+        weight = AREAL_DENSITY * size * size * G
+        print('[figure] node: table under an 8 x 8 cm sheet, %d wrench messages: force z %.5f N '
+              'vs weight %.5f N (ratio %.4f)' % (n, -force_z, weight, -force_z / weight))
+        self.assertAlmostEqual(-force_z / weight, 1.0, delta=0.03)
+        self.assertTrue(self.remove(name='cloth').success)
+
+    def test_one_sheet_dropped_on_another_rests_on_it(self):
+        self.assertTrue(self.load(sheet('bottom', 0.12, 8, TABLE_TOP + 0.002)).success)
+        self.assertTrue(self.load(sheet('top', 0.06, 4, TABLE_TOP + 0.03)).success)
+        self.run_for(1.0)
+        status = self.status.get()
+        h = self.garment_heights()
+        ids = sorted(h)
+        self.assertEqual(len(ids), 2)
+        bottom, top = h[ids[0]], h[ids[1]]
+        print('[figure] node: sheet dropped onto a sheet on the table: bottom mean z %.2f mm, top '
+              'mean z %.2f mm, lowest %.2f mm above the table (%d rollbacks)' % (
+                  1e3 * (bottom[0] - TABLE_TOP), 1e3 * (top[0] - TABLE_TOP),
+                  1e3 * (top[1] - TABLE_TOP), status.rollbacks))
+        # On the bottom sheet, not through it onto the table (each garment on its own grid, the
+        # top one fell to the table top).
+        self.assertGreater(top[1], bottom[2])
+        self.assertGreater(top[0] - bottom[0], 0.002)
+        self.assertLess(top[0] - bottom[0], 0.02)  # and it did come down
+        # The table carries both.
+        force_z, _ = self.mean_force_z(1.0)
+        weight = AREAL_DENSITY * (0.12 ** 2 + 0.06 ** 2) * G
+        print('[figure] node: table under both sheets: force z %.5f N vs weight %.5f N (ratio '
+              '%.4f)' % (-force_z, weight, -force_z / weight))
+        self.assertAlmostEqual(-force_z / weight, 1.0, delta=0.03)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_world_node')
+    rostest.rosrun('cloth_hair_sim', 'world_node', WorldNode)
