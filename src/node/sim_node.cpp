@@ -71,6 +71,10 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       nh_.createTimer(ros::Duration(1.0 / params_.status_rate), &SimNode::onStatusTimer, this);
   marker_timer_ =
       nh_.createTimer(ros::Duration(1.0 / params_.marker_rate), &SimNode::onMarkerTimer, this);
+  drape_action_ = std::make_unique<DrapeAction>(
+      pnh_, [this](const auto& req, auto& res, const auto& progress, const auto* cancel) {
+        return drape(req, res, progress, cancel);
+      });
   ROS_INFO(
       "cloth_hair_sim_node: world frame '%s', %zu colliders, backend %s, dt %g s, %g Hz, "
       "real-time factor %g",
@@ -587,11 +591,18 @@ bool SimNode::step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSi
 
 bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
                          cloth_hair_sim::DrapeSolve::Response& res) {
+  drape(req, res, {}, nullptr);
+  return true;
+}
+
+bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
+                    cloth_hair_sim::DrapeSolve::Response& res,
+                    const chs::ProgressCallback& progress, const chs::CancelFlag* cancel) {
   res.success = res.converged = false;
   const std::string who = "drape of '" + req.garment + "': ";
   if (drape_running_.exchange(true)) {
     res.message = who + "another drape solve is running; try again when it is done";
-    return true;
+    return false;
   }
   struct Release {
     std::atomic<bool>& flag;
@@ -605,13 +616,14 @@ bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
     const auto it = garments_.find(req.garment);
     if (it == garments_.end()) {
       res.message = who + "no garment of that name is loaded";
-      return true;
+      return false;
     }
     problem = it->second.reference;
     problem.colliders = colliders_.surfaces();
     generation = it->second.generation;
   }
   const Clock::time_point start = Clock::now();
+  bool cancelled = false;
   try {
     const chs::DrapeMethod method = chs::parseMethod(req.method.empty() ? "fem_shell" : req.method);
     if (!(req.tolerance >= 0.0) || !std::isfinite(req.tolerance))
@@ -626,13 +638,16 @@ bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
       if (req.tolerance > 0.0) s.tolerance = req.tolerance;
       if (req.max_iterations > 0) s.max_load_steps = req.max_iterations;
       s.stabilization = req.stabilization;
-      r = chs::solveFemShell(problem, s);
+      s.cancel = cancel;
+      r = chs::solveFemShell(problem, s, progress);
     } else {
       chs::ParticleSettings s;
       if (req.tolerance > 0.0) s.displacement_tolerance = req.tolerance;
       if (req.max_iterations > 0) s.max_iterations = req.max_iterations;
-      r = chs::solveParticleStatic(problem, s);
+      s.cancel = cancel;
+      r = chs::solveParticleStatic(problem, s, progress);
     }
+    cancelled = r.cancelled;
     res.converged = r.converged;
     res.iterations = r.iterations;
     res.residual = r.residual;
@@ -658,7 +673,7 @@ bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
   }
   res.wall_time = secondsSince(start);
   ROS_INFO("%s (%.2f s)", res.message.c_str(), res.wall_time);
-  return true;
+  return cancelled;
 }
 
 bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,

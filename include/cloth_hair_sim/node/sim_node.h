@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 
@@ -20,6 +21,7 @@
 #include "cloth_hair_sim/RemoveGarment.h"
 #include "cloth_hair_sim/StepSim.h"
 #include "cloth_hair_sim/node/collider_tracker.h"
+#include "cloth_hair_sim/node/drape_action.h"
 #include "cloth_hair_sim/node/garment.h"
 #include "cloth_hair_sim/node/grasp.h"
 #include "cloth_hair_sim/node/sim_params.h"
@@ -58,6 +60,11 @@ class SimNode {
   bool step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSim::Response& res);
   bool drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
                   cloth_hair_sim::DrapeSolve::Response& res);
+  // The drape of ~drape_solve and ~drape, off the simulation mutex; returns true when the
+  // solve stopped because cancel was set (the garment is then unchanged).
+  bool drape(const cloth_hair_sim::DrapeSolve::Request& req,
+             cloth_hair_sim::DrapeSolve::Response& res, const chs::ProgressCallback& progress,
+             const chs::CancelFlag* cancel);
   bool grasp(cloth_hair_sim::GraspGarment::Request& req,
              cloth_hair_sim::GraspGarment::Response& res);
   bool release(cloth_hair_sim::ReleaseGrasp::Request& req,
@@ -118,6 +125,8 @@ class SimNode {
   ros::ServiceServer load_srv_, remove_srv_, list_srv_, reset_srv_, pause_srv_, step_srv_,
       drape_srv_, grasp_srv_, release_srv_;
   ros::Timer step_timer_, status_timer_, marker_timer_;
+  // Last: destroyed first, it cancels and waits for a running drape that uses the members above.
+  std::unique_ptr<DrapeAction> drape_action_;
 };
 
 }  // namespace chs_node
