@@ -71,6 +71,8 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       nh_.createTimer(ros::Duration(1.0 / params_.status_rate), &SimNode::onStatusTimer, this);
   marker_timer_ =
       nh_.createTimer(ros::Duration(1.0 / params_.marker_rate), &SimNode::onMarkerTimer, this);
+  diagnostics_ = std::make_unique<SimDiagnostics>(nh_, pnh_, params_.real_time_factor,
+                                                  [this] { return healthSample(); });
   drape_action_ = std::make_unique<DrapeAction>(
       pnh_, [this](const auto& req, auto& res, const auto& progress, const auto* cancel) {
         return drape(req, res, progress, cancel);
@@ -134,6 +136,7 @@ void SimNode::stepGarment(Garment& g, double h, int depth) {
   }
   // Still diverging at a sixteenth of the step: stop the garment where it was rather than
   // publish garbage; the node carries on.
+  ++g.diverged_stops;
   g.dynamics->setVelocities(
       std::vector<Eigen::Vector3d>(g.dynamics->numVertices(), Eigen::Vector3d::Zero()));
   ROS_ERROR_THROTTLE(5.0, "garment '%s' diverges even at dt %g s: stopped in place", g.name.c_str(),
@@ -519,6 +522,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
     for (auto& [name, g] : garments_) {
       resetDynamics(g, params_);
       g.generation = next_generation_++;
+      g.diverged_stops = 0;
       g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
       // A garment hanging from frames restarts where its first frame has carried it since load
       // (pinned across one substep instead, its vertices would move faster than max_speed and
@@ -621,6 +625,8 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
     problem = it->second.reference;
     problem.colliders = colliders_.surfaces();
     generation = it->second.generation;
+    drape_garment_ = req.garment;
+    drape_started_ = Clock::now();
   }
   const Clock::time_point start = Clock::now();
   bool cancelled = false;

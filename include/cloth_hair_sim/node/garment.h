@@ -27,6 +27,7 @@ struct Garment {
   int colour = 0;
   // Pins attached to tf frames at load (also pinned in `reference`, where they were at load).
   std::vector<FrameAttachment> frame_pins;
+  int diverged_stops = 0;  // stopped in place after diverging, since load or reset
 };
 
 // Rigid pose of a geometry_msgs/Pose; throws chs::InputError for NaN/Inf or a quaternion that
