@@ -13,6 +13,7 @@
 #include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/scene.h"
+#include "cloth_hair_sim/node/garment_mesh.h"
 #include "cloth_hair_sim/node/markers.h"
 #include "cloth_hair_sim/node/urdf_colliders.h"
 
@@ -410,10 +411,17 @@ void SimNode::onMarkerTimer(const ros::TimerEvent&) {
   array.markers.push_back(clear);
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& [name, g] : garments_)
-      for (auto& m :
-           garmentMarkers(g.dynamics->displaySurface(), g.colour, g.colour, kBackFaceOffset))
+    const ros::Time now = ros::Time::now();
+    for (const auto& [name, g] : garments_) {
+      const chs::DisplaySurface surface = g.dynamics->displaySurface();
+      for (auto& m : garmentMarkers(surface, g.colour, g.colour, kBackFaceOffset))
         array.markers.push_back(std::move(m));
+      if (g.mesh_pub.getNumSubscribers() == 0) continue;
+      cloth_hair_sim::GarmentMesh mesh = garmentMeshMessage(name, *g.dynamics, surface);
+      mesh.header.stamp = now;
+      mesh.header.frame_id = params_.world_frame;
+      g.mesh_pub.publish(mesh);
+    }
     if (params_.show_colliders) {
       int id = 0;
       for (const auto& c : colliders_.colliders()) {
@@ -470,6 +478,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
   }
   try {
     Garment g = buildGarment(req, world_from_frame, attach_frames, params_);
+    g.mesh_pub = pnh_.advertise<cloth_hair_sim::GarmentMesh>("garments/" + req.name + "/mesh", 1);
     std::lock_guard<std::mutex> lock(mutex_);
     if (garments_.count(req.name)) {
       res.message = who + "a garment of that name was loaded meanwhile";

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <ros/publisher.h>
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/LoadGarment.h"
@@ -27,7 +28,8 @@ struct Garment {
   int colour = 0;
   // Pins attached to tf frames at load (also pinned in `reference`, where they were at load).
   std::vector<FrameAttachment> frame_pins;
-  int diverged_stops = 0;  // stopped in place after diverging, since load or reset
+  ros::Publisher mesh_pub;  // ~garments/<name>/mesh; unadvertised with the garment
+  int diverged_stops = 0;   // stopped in place after diverging, since load or reset
 };
 
 // Rigid pose of a geometry_msgs/Pose; throws chs::InputError for NaN/Inf or a quaternion that
