@@ -334,9 +334,11 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
     problem.setStabilization(0.0);
     if (out.cancelled) {
       problem.restore();
-      out.status = "cancelled while settling at load factor 1 after " + std::to_string(settling) +
-                   " pseudo-time steps (least residual " + std::to_string(best) +
-                   "); returning the state of least residual";
+      std::ostringstream msg;
+      msg << "cancelled while settling at load factor 1 after " << settling
+          << " pseudo-time steps (least residual " << best
+          << "); returning the state of least residual";
+      out.status = msg.str();
       return out;
     }
     if (!settled) {
