@@ -14,6 +14,7 @@
 #include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/io/scene.h"
 #include "cloth_hair_sim/core/io/state_file.h"
+#include "cloth_hair_sim/node/garment_mesh.h"
 #include "cloth_hair_sim/node/markers.h"
 #include "cloth_hair_sim/node/state_io.h"
 #include "cloth_hair_sim/node/urdf_colliders.h"
@@ -86,6 +87,12 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       nh_.createTimer(ros::Duration(1.0 / params_.status_rate), &SimNode::onStatusTimer, this);
   marker_timer_ =
       nh_.createTimer(ros::Duration(1.0 / params_.marker_rate), &SimNode::onMarkerTimer, this);
+  diagnostics_ = std::make_unique<SimDiagnostics>(nh_, pnh_, params_.real_time_factor,
+                                                  [this] { return healthSample(); });
+  drape_action_ = std::make_unique<DrapeAction>(
+      pnh_, [this](const auto& req, auto& res, const auto& progress, const auto* cancel) {
+        return drape(req, res, progress, cancel);
+      });
   ROS_INFO(
       "cloth_hair_sim_node: world frame '%s', %zu colliders, backend %s, dt %g s, %g Hz, "
       "real-time factor %g",
@@ -170,6 +177,7 @@ void SimNode::stepGarment(Garment& g, double h, int depth) {
   }
   // Still diverging at a sixteenth of the step: stop the garment where it was rather than
   // publish garbage; the node carries on.
+  ++g.diverged_stops;
   g.dynamics->setVelocities(
       std::vector<Eigen::Vector3d>(g.dynamics->numVertices(), Eigen::Vector3d::Zero()));
   ROS_ERROR_THROTTLE(5.0, "garment '%s' diverges even at dt %g s: stopped in place", g.name.c_str(),
@@ -211,6 +219,7 @@ void SimNode::stepWorld(double h, int depth) {
   // Still diverging at a sixteenth of the step: those garments stop where they were and the
   // world waits for them this substep rather than publish garbage; the node carries on.
   for (Garment* g : diverging) {
+    ++g->diverged_stops;
     g->dynamics->setVelocities(
         std::vector<Eigen::Vector3d>(g->dynamics->numVertices(), Eigen::Vector3d::Zero()));
     ROS_ERROR_THROTTLE(5.0, "garment '%s' diverges even at dt %g s: stopped in place",
@@ -528,10 +537,17 @@ void SimNode::onMarkerTimer(const ros::TimerEvent&) {
   array.markers.push_back(clear);
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& [name, g] : garments_)
-      for (auto& m :
-           garmentMarkers(g.dynamics->displaySurface(), g.colour, g.colour, kBackFaceOffset))
+    const ros::Time now = ros::Time::now();
+    for (const auto& [name, g] : garments_) {
+      const chs::DisplaySurface surface = g.dynamics->displaySurface();
+      for (auto& m : garmentMarkers(surface, g.colour, g.colour, kBackFaceOffset))
         array.markers.push_back(std::move(m));
+      if (g.mesh_pub.getNumSubscribers() == 0) continue;
+      cloth_hair_sim::GarmentMesh mesh = garmentMeshMessage(name, *g.dynamics, surface);
+      mesh.header.stamp = now;
+      mesh.header.frame_id = params_.world_frame;
+      g.mesh_pub.publish(mesh);
+    }
     if (params_.show_colliders) {
       int id = 0;
       for (const auto& c : colliders_.colliders()) {
@@ -600,6 +616,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
       params = garmentParams();
     }
     Garment g = buildGarment(req, world_from_frame, attach_frames, params);
+    g.mesh_pub = pnh_.advertise<cloth_hair_sim::GarmentMesh>("garments/" + req.name + "/mesh", 1);
     std::lock_guard<std::mutex> lock(mutex_);
     if (garments_.count(req.name)) {
       res.message = who + "a garment of that name was loaded meanwhile";
@@ -655,6 +672,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
     for (auto& [name, g] : garments_) {
       resetDynamics(g, params);
       g.generation = next_generation_++;
+      g.diverged_stops = 0;
       g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
       // A garment hanging from frames restarts where its first frame has carried it since load
       // (pinned across one substep instead, its vertices would move faster than max_speed and
@@ -729,11 +747,18 @@ bool SimNode::step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSi
 
 bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
                          cloth_hair_sim::DrapeSolve::Response& res) {
+  drape(req, res, {}, nullptr);
+  return true;
+}
+
+bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
+                    cloth_hair_sim::DrapeSolve::Response& res,
+                    const chs::ProgressCallback& progress, const chs::CancelFlag* cancel) {
   res.success = res.converged = false;
   const std::string who = "drape of '" + req.garment + "': ";
   if (drape_running_.exchange(true)) {
     res.message = who + "another drape solve is running; try again when it is done";
-    return true;
+    return false;
   }
   struct Release {
     std::atomic<bool>& flag;
@@ -747,13 +772,16 @@ bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
     const auto it = garments_.find(req.garment);
     if (it == garments_.end()) {
       res.message = who + "no garment of that name is loaded";
-      return true;
+      return false;
     }
     problem = it->second.reference;
     problem.colliders = colliders_.surfaces();
     generation = it->second.generation;
+    drape_garment_ = req.garment;
+    drape_started_ = Clock::now();
   }
   const Clock::time_point start = Clock::now();
+  bool cancelled = false;
   try {
     const chs::DrapeMethod method = chs::parseMethod(req.method.empty() ? "fem_shell" : req.method);
     if (!(req.tolerance >= 0.0) || !std::isfinite(req.tolerance))
@@ -768,13 +796,16 @@ bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
       if (req.tolerance > 0.0) s.tolerance = req.tolerance;
       if (req.max_iterations > 0) s.max_load_steps = req.max_iterations;
       s.stabilization = req.stabilization;
-      r = chs::solveFemShell(problem, s);
+      s.cancel = cancel;
+      r = chs::solveFemShell(problem, s, progress);
     } else {
       chs::ParticleSettings s;
       if (req.tolerance > 0.0) s.displacement_tolerance = req.tolerance;
       if (req.max_iterations > 0) s.max_iterations = req.max_iterations;
-      r = chs::solveParticleStatic(problem, s);
+      s.cancel = cancel;
+      r = chs::solveParticleStatic(problem, s, progress);
     }
+    cancelled = r.cancelled;
     res.converged = r.converged;
     res.iterations = r.iterations;
     res.residual = r.residual;
@@ -800,7 +831,7 @@ bool SimNode::drapeSolve(cloth_hair_sim::DrapeSolve::Request& req,
   }
   res.wall_time = secondsSince(start);
   ROS_INFO("%s (%.2f s)", res.message.c_str(), res.wall_time);
-  return true;
+  return cancelled;
 }
 
 bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
@@ -930,6 +961,7 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
     const std::vector<double> frictions = colliders_.frictions();
     for (auto& [name, g] : saved.garments) {
       g.dynamics->setColliders(surfaces, {}, frictions);
+      g.mesh_pub = pnh_.advertise<cloth_hair_sim::GarmentMesh>("garments/" + name + "/mesh", 1);
       g.generation = next_generation_++;  // a drape solve of the old garment is not applied
       next_colour_ = std::max(next_colour_, g.colour + 1);
     }

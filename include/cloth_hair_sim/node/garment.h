@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <ros/publisher.h>
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/LoadGarment.h"
@@ -29,6 +30,8 @@ struct Garment {
   int colour = 0;
   // Pins attached to tf frames at load (also pinned in `reference`, where they were at load).
   std::vector<FrameAttachment> frame_pins;
+  ros::Publisher mesh_pub;  // ~garments/<name>/mesh; unadvertised with the garment
+  int diverged_stops = 0;   // stopped in place after diverging, since load or reset
 
   // What buildGarment made it from, so that a saved state (state_io.h) rebuilds it as it was.
   cloth_hair_sim::LoadGarment::Request request;

@@ -25,13 +25,15 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
   s.arc_length = settings.arc_length;
   s.stabilization = settings.stabilization;
   s.max_settling_steps = settings.max_settling_steps;
+  s.cancel = settings.cancel;
   if (settings.imperfection > 0.0) model.perturb(settings.imperfection, settings.imperfection_seed);
   const ContinuationResult c = solveArcLength(model, s, progress);
 
   DrapeResult r;
   r.converged = c.converged;
+  r.cancelled = c.cancelled;
   r.status = c.status;
-  if (!c.converged) {
+  if (!c.converged && !c.cancelled) {
     const std::string free_modes = model.unrestrainedRigidModes();
     if (!free_modes.empty())
       r.status += "; the garment has unrestrained rigid-body modes (" + free_modes +

@@ -94,7 +94,7 @@ struct Relaxation {
   int active_contacts = 0;
   std::vector<ProgressEvent> history;
 
-  enum class Outcome { kConverged, kStopped, kLimit, kNonFinite };
+  enum class Outcome { kConverged, kStopped, kLimit, kNonFinite, kCancelled };
 
   // One phase. sewing: sewing springs, no loads/obstacles; else: loads, obstacles, joined seams.
   // stop(): extra exit test (seams met). Returns how the phase ended.
@@ -110,6 +110,7 @@ struct Relaxation {
     contact_surface.assign(n, -1);
     std::vector<Vec3> step(n), normal(n);
     for (int it = 1; it <= max_iterations; ++it) {
+      if (cancelRequested(settings.cancel)) return Outcome::kCancelled;
       // Steps 2-4: weight and loads, internal reactions, sewing.
       std::fill(force.begin(), force.end(), Vec3::Zero());
       network.addForces(x, force);
@@ -164,6 +165,7 @@ struct Relaxation {
         e.iteration = iterations;
         e.residual = max_disp / b;
         e.active_contacts = active_contacts;
+        e.total_iterations = iterations;
         history.push_back(e);
         if (progress) progress(e);
       }
@@ -234,6 +236,12 @@ DrapeResult solveParticleStatic(const DrapeProblem& problem, const ParticleSetti
     const auto outcome =
         r.run(true, c_sew, beta, k_sew, k_sew * seams.maxGap(r.x), settings.max_sewing_iterations,
               0, [&] { return seams.maxGap(r.x) < join; });
+    if (outcome == Relaxation::Outcome::kCancelled) {
+      result.cancelled = true;
+      status << "cancelled while sewing after " << r.iterations
+             << " iterations; returning the current state";
+      return finish(false);
+    }
     if (outcome == Relaxation::Outcome::kNonFinite) {
       status << "sewing diverged (non-finite displacement) after " << r.iterations
              << " iterations; returning the last finite state";
@@ -266,6 +274,11 @@ DrapeResult solveParticleStatic(const DrapeProblem& problem, const ParticleSetti
       break;
     case Relaxation::Outcome::kLimit:
       status << "not converged: iteration limit " << settings.max_iterations << " reached";
+      break;
+    case Relaxation::Outcome::kCancelled:
+      result.cancelled = true;
+      status << "cancelled after " << drape_iterations
+             << " iterations; returning the current state";
       break;
     default:
       status << "diverged (non-finite displacement) after " << r.iterations

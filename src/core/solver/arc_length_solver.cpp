@@ -48,7 +48,7 @@ class TangentSolver {
   bool analyzed_ = false;
 };
 
-enum class Outcome { kConverged, kDiverged, kSingular };
+enum class Outcome { kConverged, kDiverged, kSingular, kCancelled };
 
 const char* kRigidBodyHint =
     "the garment may have a rigid-body mode (no support, or free to slide or spin in the "
@@ -79,10 +79,14 @@ class StepRunner {
     Outcome outcome = Outcome::kDiverged;
     int it = 0;
     for (;; ++it) {
+      if (cancelRequested(s_.cancel)) {
+        outcome = Outcome::kCancelled;
+        break;
+      }
       p_.linearize(lam, R_, F0_, &K_);
       res_ = R_.norm() / p_.loadNorm();
       if (it == 0) first = res_;
-      ProgressEvent e{step, lam, it, res_, p_.activeContacts()};
+      ProgressEvent e{step, lam, it, res_, p_.activeContacts(), out_.iterations + it};
       out_.history.push_back(e);
       if (progress_) progress_(e);
       // Converged, or stalled at the round-off floor: a residual near the tolerance that a
@@ -149,7 +153,7 @@ class StepRunner {
     p_.anchorHere();
     p_.linearize(lam, R_, F0_, &K_);
     res_ = R_.norm() / p_.loadNorm();
-    ProgressEvent e{step, lam, it, res_, p_.activeContacts()};
+    ProgressEvent e{step, lam, it, res_, p_.activeContacts(), out_.iterations};
     out_.history.push_back(e);
     if (progress_) progress_(e);
     if (res_ < best) {
@@ -216,6 +220,10 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
       break;
     }
     const int step = out.load_steps + 1;
+    if (cancelRequested(s.cancel)) {
+      out.cancelled = failed = true;
+      break;
+    }
     if (!runner.predictorDirection(lambda, uI)) {
       out.status = "the tangent stiffness is singular at load factor " + std::to_string(lambda) +
                    ": " + kRigidBodyHint;
@@ -232,6 +240,11 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
     }
     double lam = lambda;
     const Outcome outcome = runner.run(step, lambda, dlam, uI, on_arc, arc, lam);
+    if (outcome == Outcome::kCancelled) {
+      problem.restore();
+      out.cancelled = failed = true;
+      break;
+    }
 
     if (outcome == Outcome::kConverged && on_arc && lam > 1.0) {
       // The arc overshot lambda = 1: redo the step under load control onto 1.
@@ -278,6 +291,12 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
     }
   }
   out.lambda = lambda;
+  if (out.cancelled) {
+    std::ostringstream msg;
+    msg << "cancelled at load factor " << lambda << " after " << out.load_steps
+        << " load steps; returning the last converged load step";
+    out.status = msg.str();
+  }
   if (failed) return out;
 
   if (stabilized) {
@@ -291,6 +310,10 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
     double previous = 0.0, best = HUGE_VAL;
     bool settled = false;
     for (; settling < s.max_settling_steps; ++settling) {
+      if (cancelRequested(s.cancel)) {
+        out.cancelled = true;
+        break;
+      }
       problem.setStabilization(s.stabilization * stab_scale);
       const bool ok = runner.ptcIteration(step, settling, 1.0, best);
       const double r = runner.residual();
@@ -309,6 +332,15 @@ ContinuationResult solveArcLength(ContinuationProblem& problem, const ArcLengthS
       previous = r;
     }
     problem.setStabilization(0.0);
+    if (out.cancelled) {
+      problem.restore();
+      std::ostringstream msg;
+      msg << "cancelled while settling at load factor 1 after " << settling
+          << " pseudo-time steps (least residual " << best
+          << "); returning the state of least residual";
+      out.status = msg.str();
+      return out;
+    }
     if (!settled) {
       problem.restore();  // the state of least residual
       out.status = "the stabilised drape did not settle to equilibrium in " +

@@ -61,12 +61,14 @@ struct ProgressEvent {
   int iteration = 0;
   double residual = 0.0;  // relative residual norm
   int active_contacts = 0;
+  int total_iterations = 0;  // of the whole solve so far (iteration restarts each load step)
 };
 using ProgressCallback = std::function<void(const ProgressEvent&)>;
 
 struct DrapeResult {
   bool converged = false;
-  std::string status;  // what happened, in words
+  bool cancelled = false;  // stopped on request (a CancelFlag): positions hold the last good state
+  std::string status;      // what happened, in words
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3d> directors;  // FEM shell only (unit normals of the fibres)
   int load_steps = 0;

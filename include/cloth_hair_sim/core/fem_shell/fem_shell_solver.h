@@ -1,4 +1,5 @@
 #pragma once
+#include "cloth_hair_sim/core/common/cancel_flag.h"
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 
 namespace chs {
@@ -22,6 +23,9 @@ struct FemShellSettings {
   // the symmetry of a perfectly flat sheet; 0 = none.
   double imperfection = 0.0;
   unsigned imperfection_seed = 1;
+  // Polled each iteration: once set, the solve returns the last converged load step (while
+  // settling, the state of least residual) with DrapeResult::cancelled.
+  const CancelFlag* cancel = nullptr;
 };
 
 // Solves the static drape; never throws on non-convergence: the result then holds the last

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 
+#include "cloth_hair_sim/core/common/cancel_flag.h"
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/particle/particle_network.h"
 #include "cloth_hair_sim/core/particle/particle_seams.h"
@@ -46,6 +47,10 @@ struct ParticleSettings {
 
   // Start from these positions instead of the flat reference mesh (continuation); empty: mesh.
   std::vector<Eigen::Vector3d> initial_positions;
+
+  // Polled each iteration: once set, the solve returns its current (finite) state with
+  // DrapeResult::cancelled.
+  const CancelFlag* cancel = nullptr;
 };
 
 // Static drape by the particle method of seed 000 section 3. Throws InputError for a bad

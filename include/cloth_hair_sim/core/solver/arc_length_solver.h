@@ -2,6 +2,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth_hair_sim/core/common/cancel_flag.h"
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/solver/continuation_problem.h"
 
@@ -25,10 +26,12 @@ struct ArcLengthSettings {
   // any viscous force is below tolerance: only a true equilibrium counts as converged.
   double stabilization = 0.0;
   int max_settling_steps = 200;
+  const CancelFlag* cancel = nullptr;  // polled each iteration (FemShellSettings::cancel)
 };
 
 struct ContinuationResult {
   bool converged = false;
+  bool cancelled = false;
   std::string status;
   double lambda = 0.0;  // load factor of the returned (last converged) state
   int load_steps = 0;
