@@ -53,7 +53,7 @@ class WorldNode(unittest.TestCase):
         del self.wrenches[:]
         time.sleep(wall_seconds)
         samples = [w.wrench.force.z for w in self.wrenches]
-        self.assertGreater(len(samples), 5)
+        self.assertGreaterEqual(len(samples), 3)
         self.assertTrue(all(w.header.frame_id == 'table' for w in self.wrenches))
         return sum(samples) / len(samples), len(samples)
 
@@ -98,7 +98,7 @@ class WorldNode(unittest.TestCase):
         self.assertGreater(top[0] - bottom[0], 0.002)
         self.assertLess(top[0] - bottom[0], 0.02)  # and it did come down
         # The table carries both.
-        force_z, _ = self.mean_force_z(1.0)
+        force_z, _ = self.mean_force_z(2.0)
         weight = AREAL_DENSITY * (0.12 ** 2 + 0.06 ** 2) * G
         print('[figure] node: table under both sheets: force z %.5f N vs weight %.5f N (ratio '
               '%.4f)' % (-force_z, weight, -force_z / weight))
