@@ -298,6 +298,17 @@ TEST(World, RefusesBodiesItCannotHold) {
   expectRefused("sheet", std::make_unique<HybridShellDynamics>(p, shellSettings(0.0)),
                 "a body of that name");
   EXPECT_EQ(w.numBodies(), 1);
+  for (double dx : {1e-5, 5.0}) {
+    WorldSettings bad;
+    bad.grid_spacing = dx;
+    try {
+      World nonsense(bad);
+      ADD_FAILURE() << "grid spacing " << dx << " accepted";
+    } catch (const InputError& e) {
+      std::printf("  refused: %s\n", e.what());
+      EXPECT_NE(std::string(e.what()).find("lies outside"), std::string::npos);
+    }
+  }
   EXPECT_THROW(w.step(0.0), InputError);
   EXPECT_THROW(w.step(std::nan("")), InputError);
   EXPECT_TRUE(w.remove("sheet"));

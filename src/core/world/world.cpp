@@ -5,8 +5,24 @@
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/common/names.h"
+#include "cloth_hair_sim/core/mesh/scene_scale.h"
 
 namespace chs {
+
+namespace {
+
+// A grid cell finer than the finest cloth cell a scene may hold, or coarser than a metre (no
+// contact between garments could be resolved on it), is a unit or typing mistake.
+constexpr double kMaxGridSpacing = 1.0;
+
+void checkSpacing(const std::string& who, double dx) {
+  if (!(dx >= kMinCellEdge && dx <= kMaxGridSpacing))
+    throw InputError(who + "grid spacing " + std::to_string(dx) + " m lies outside " +
+                     std::to_string(kMinCellEdge) + " m to " + std::to_string(kMaxGridSpacing) +
+                     " m");
+}
+
+}  // namespace
 
 World::World(const WorldSettings& settings) : settings_(settings) {
   if (!std::isfinite(settings.grid_spacing)) throw InputError("world: grid_spacing must be finite");
@@ -17,6 +33,7 @@ World::World(const WorldSettings& settings) : settings_(settings) {
     throw InputError("world: body_friction must be >= 0");
   if (!std::isfinite(settings.contact_distance))
     throw InputError("world: contact_distance must be finite");
+  if (settings.grid_spacing > 0.0) checkSpacing("world: ", settings.grid_spacing);
   spacing_ = settings.grid_spacing > 0.0 ? settings.grid_spacing : 0.0;
 }
 
@@ -35,6 +52,7 @@ Body& World::add(const std::string& name, std::shared_ptr<Body> body) {
   for (const Entry& e : bodies_)
     if (e.name == name) throw InputError(who + "a body of that name is in the world");
   const double dx = body->field().spacing();
+  checkSpacing(who, dx);
   if (spacing_ > 0.0 && std::abs(dx - spacing_) > 1e-12 * spacing_)
     throw InputError(who + "its grid spacing " + std::to_string(dx) + " m is not the world's " +
                      std::to_string(spacing_) + " m (build it with the world's gridSpacing())");
