@@ -229,10 +229,13 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
 }
 
 void resetDynamics(Garment& g, const SimParams& params) {
-  if (params.dynamics_backend == "mpm")
-    g.dynamics = std::make_unique<chs::HybridShellDynamics>(g.reference, params.mpm);
-  else
+  if (params.dynamics_backend == "mpm") {
+    chs::HybridShellSettings s = params.mpm;
+    if (g.self_friction) s.contact.friction = *g.self_friction;
+    g.dynamics = std::make_unique<chs::HybridShellDynamics>(g.reference, s);
+  } else {
     g.dynamics = std::make_unique<chs::ParticleDynamics>(g.reference, params.particle);
+  }
 }
 
 }  // namespace chs_node

@@ -76,6 +76,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       "real-time factor %g",
       params_.world_frame.c_str(), colliders_.colliders().size(), params_.dynamics_backend.c_str(),
       params_.dt, params_.step_rate, params_.real_time_factor);
+  startReconfigure();
 }
 
 void SimNode::refreshColliders() {

@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct Garment {
   int colour = 0;
   // Pins attached to tf frames at load (also pinned in `reference`, where they were at load).
   std::vector<FrameAttachment> frame_pins;
+  // mpm: Coulomb mu between its layers when reconfigured live (else ~mpm/self_friction).
+  std::optional<double> self_friction;
 };
 
 // Rigid pose of a geometry_msgs/Pose; throws chs::InputError for NaN/Inf or a quaternion that

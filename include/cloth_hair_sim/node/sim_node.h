@@ -3,14 +3,17 @@
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 
+#include <dynamic_reconfigure/server.h>
 #include <ros/ros.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include <boost/thread/recursive_mutex.hpp>
 
 #include "cloth_hair_sim/DrapeSolve.h"
 #include "cloth_hair_sim/GraspGarment.h"
@@ -18,6 +21,7 @@
 #include "cloth_hair_sim/LoadGarment.h"
 #include "cloth_hair_sim/ReleaseGrasp.h"
 #include "cloth_hair_sim/RemoveGarment.h"
+#include "cloth_hair_sim/SimConfig.h"
 #include "cloth_hair_sim/StepSim.h"
 #include "cloth_hair_sim/node/collider_tracker.h"
 #include "cloth_hair_sim/node/garment.h"
@@ -87,6 +91,13 @@ class SimNode {
   // Under mutex_: the largest substep every garment tolerates.
   double substepLimit() const;
 
+  // dynamic_reconfigure (cfg/Sim.cfg, sim_node_reconfigure.cpp): the server shows the node's
+  // parameters; a change is applied under mutex_, a refused value is put back and logged.
+  void startReconfigure();
+  void onReconfigure(cloth_hair_sim::SimConfig& config);
+  // Under mutex_: the material group, for the garment the config's `garment` names.
+  void reconfigureMaterial(cloth_hair_sim::SimConfig& config);
+
   ros::NodeHandle nh_, pnh_;
   SimParams params_;
   tf2_ros::Buffer tf_buffer_;
@@ -118,6 +129,11 @@ class SimNode {
   ros::ServiceServer load_srv_, remove_srv_, list_srv_, reset_srv_, pause_srv_, step_srv_,
       drape_srv_, grasp_srv_, release_srv_;
   ros::Timer step_timer_, status_timer_, marker_timer_;
+  // Taken by the server around each callback; never while holding mutex_ (the callback takes
+  // mutex_ inside it).
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<cloth_hair_sim::SimConfig>> reconfigure_;
+  cloth_hair_sim::SimConfig live_;  // the last accepted configuration
 };
 
 }  // namespace chs_node
