@@ -82,6 +82,9 @@ class SimNode {
 
   // Under mutex_: colliders from tf into every garment.
   void refreshColliders();
+  // Under mutex_: colliders and attachment frames that jumped in this update of `duration`
+  // simulated seconds (teleport.h) are teleported rather than swept (sim_node_teleport.cpp).
+  void teleportJumps(double duration);
   // Under mutex_: advances every garment by `count` substeps of h.
   void advance(int count, double h);
   // Under mutex_: one substep of one garment; a diverged step is rolled back and retried as two
