@@ -18,7 +18,7 @@ struct TrackedCollider {
   chs::ColliderShape shape;
   double friction = 0.0;    // Coulomb mu of cloth on this collider
   bool has_pose = false;    // seen at least once; until then the collider is inactive
-  bool stale = true;        // the last lookup failed: the last pose is held
+  bool stale = true;        // the last lookup failed or was too old: the last pose is held
   bool reappeared = false;  // stale at the previous update, posed again now (teleported)
   Eigen::Isometry3d world_from_frame = Eigen::Isometry3d::Identity();
 
@@ -50,7 +50,7 @@ bool tooOld(const ros::Time& stamp, const ros::Time& now, double max_age_s);
 class ColliderTracker {
  public:
   ColliderTracker(const tf2_ros::Buffer& buffer, std::string world_frame, double timeout_s,
-                  double max_age_s = 0.0);
+                  double max_age_s);
   void setColliders(std::vector<TrackedCollider> colliders) { colliders_ = std::move(colliders); }
   // Looks every frame up at the latest available time. Returns false if any lookup failed.
   bool update();
