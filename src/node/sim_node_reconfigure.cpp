@@ -2,15 +2,14 @@
 #include <cmath>
 #include <string>
 
-#include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/node/live_material.h"
 #include "cloth_hair_sim/node/sim_node.h"
 
 namespace chs_node {
 namespace {
 
-bool finiteAtLeast(double value, double low) {
-  return std::isfinite(value) && value >= low;
+bool nonNegative(double value) {
+  return std::isfinite(value) && value >= 0.0;
 }
 
 }  // namespace
@@ -42,7 +41,7 @@ void SimNode::onReconfigure(cloth_hair_sim::SimConfig& c) {
     ROS_ERROR("dynamic_reconfigure: %s; the previous value is kept", what.c_str());
   };
   if (c.real_time_factor != live_.real_time_factor) {
-    if (finiteAtLeast(c.real_time_factor, 0.0)) {
+    if (nonNegative(c.real_time_factor)) {
       params_.real_time_factor = c.real_time_factor;
       ROS_INFO("dynamic_reconfigure: real_time_factor %g", c.real_time_factor);
     } else {
@@ -52,7 +51,7 @@ void SimNode::onReconfigure(cloth_hair_sim::SimConfig& c) {
     }
   }
   if (c.damping != live_.damping) {
-    if (finiteAtLeast(c.damping, 0.0)) {
+    if (nonNegative(c.damping)) {
       params_.damping = params_.particle.damping = params_.mpm.damping = c.damping;
       for (auto& [name, g] : garments_) g.dynamics->setDamping(c.damping);
       ROS_INFO("dynamic_reconfigure: damping %g 1/s", c.damping);
