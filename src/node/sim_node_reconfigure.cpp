@@ -129,10 +129,10 @@ void SimNode::reconfigureMaterial(cloth_hair_sim::SimConfig& c) {
       !change.self_friction)
     return;
   if (it == garments_.end()) {
-    ROS_ERROR(
-        "dynamic_reconfigure: material: garment '%s' is not loaded (select one with the garment "
-        "parameter); nothing changed",
-        c.garment.c_str());
+    const std::string why = c.garment.empty()
+                                ? "no garment is selected (set garment to a loaded one)"
+                                : "garment '" + c.garment + "' is not loaded";
+    ROS_ERROR("dynamic_reconfigure: material: %s; nothing changed", why.c_str());
     show(nullptr);
     return;
   }
