@@ -109,6 +109,11 @@ std::vector<std::string> pathList(const char* variable) {
 
 }  // namespace
 
+bool tooOld(const ros::Time& stamp, const ros::Time& now, double max_age_s) {
+  // Static transforms (and chains of them only) carry no stamp: never old.
+  return max_age_s > 0.0 && !stamp.isZero() && (now - stamp).toSec() > max_age_s;
+}
+
 std::string resolveMeshUrl(const std::string& url) {
   const std::string package_scheme = "package://", file_scheme = "file://";
   if (url.rfind(file_scheme, 0) == 0) return url.substr(file_scheme.size());
@@ -201,20 +206,27 @@ std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list) {
 }
 
 ColliderTracker::ColliderTracker(const tf2_ros::Buffer& buffer, std::string world_frame,
-                                 double timeout_s)
-    : buffer_(buffer), world_frame_(std::move(world_frame)), timeout_s_(timeout_s) {}
+                                 double timeout_s, double max_age_s)
+    : buffer_(buffer),
+      world_frame_(std::move(world_frame)),
+      timeout_s_(timeout_s),
+      max_age_s_(max_age_s) {}
 
 bool ColliderTracker::update() {
   bool all_ok = true;
+  const ros::Time now = ros::Time::now();
   for (auto& c : colliders_) {
+    c.reappeared = false;
     std::string error;
     if (buffer_.canTransform(world_frame_, c.frame_id, ros::Time(0), ros::Duration(timeout_s_),
                              &error)) {
       try {
-        const Eigen::Isometry3d pose =
-            tf2::transformToEigen(buffer_.lookupTransform(world_frame_, c.frame_id, ros::Time(0)));
-        if (pose.matrix().allFinite()) {
+        const geometry_msgs::TransformStamped t =
+            buffer_.lookupTransform(world_frame_, c.frame_id, ros::Time(0));
+        const Eigen::Isometry3d pose = tf2::transformToEigen(t);
+        if (pose.matrix().allFinite() && !tooOld(t.header.stamp, now, max_age_s_)) {
           c.world_from_frame = pose;
+          c.reappeared = c.has_pose && c.stale;
           c.has_pose = true;
           c.stale = false;
           continue;

@@ -235,7 +235,9 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
 void resetDynamics(Garment& g, const SimParams& params) {
   g.body.reset();
   if (params.dynamics_backend == "mpm") {
-    auto shell = std::make_shared<chs::HybridShellDynamics>(g.reference, params.mpm);
+    chs::HybridShellSettings s = params.mpm;
+    if (g.self_friction) s.contact.friction = *g.self_friction;
+    auto shell = std::make_shared<chs::HybridShellDynamics>(g.reference, s);
     g.dynamics = shell;
     g.body = shell;
   } else {

@@ -51,7 +51,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       pnh_(private_nh),
       params_(loadSimParams(private_nh)),
       tf_listener_(tf_buffer_),
-      colliders_(tf_buffer_, params_.world_frame, params_.tf_timeout) {
+      colliders_(tf_buffer_, params_.world_frame, params_.tf_timeout, params_.tf_max_age) {
   pnh_.param("tf_delay", tf_delay_, tf_delay_);
   if (!(tf_delay_ >= 0.0) || !std::isfinite(tf_delay_))
     throw chs::InputError("parameter tf_delay must be >= 0 (s)");
@@ -98,6 +98,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       "real-time factor %g",
       params_.world_frame.c_str(), colliders_.colliders().size(), params_.dynamics_backend.c_str(),
       params_.dt, params_.step_rate, params_.real_time_factor);
+  startReconfigure();
 }
 
 void SimNode::refreshColliders() {
@@ -268,6 +269,8 @@ void SimNode::publishColliderWrenches() {
 }
 
 void SimNode::advance(int count, double h) {
+  const double duration = count * h;
+  teleportJumps(duration);
   // Kinematic inputs (tf-posed colliders, frame pins, grasps) move from their pose at the start
   // of the update to the current one across its substeps, colliders with the matching velocity:
   // a frame that moved between updates neither jerks the cloth nor tunnels through it.
@@ -291,7 +294,6 @@ void SimNode::advance(int count, double h) {
     const auto it = garments_.find(grasp.garment);
     if (it != garments_.end()) attached.push_back({&it->second, &grasp.attachment});
   }
-  const double duration = count * h;
   for (int i = 0; i < count; ++i) {
     const double alpha = static_cast<double>(i + 1) / count;
     for (auto& [g, a] : attached) a->pinAt(*g->dynamics, alpha);
@@ -351,7 +353,13 @@ bool SimNode::lookupFrame(const std::string& frame, double timeout, Eigen::Isome
                                     error))
     return false;
   try {
-    pose = tf2::transformToEigen(tf_buffer_.lookupTransform(params_.world_frame, frame, time));
+    const geometry_msgs::TransformStamped t =
+        tf_buffer_.lookupTransform(params_.world_frame, frame, time);
+    if (tooOld(t.header.stamp, now, params_.tf_max_age)) {
+      if (error) *error = "its latest transform is older than ~tf_max_age";
+      return false;
+    }
+    pose = tf2::transformToEigen(t);
   } catch (const tf2::TransformException& e) {
     if (error) *error = e.what();
     return false;

@@ -84,6 +84,7 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   nh.param("damping", p.damping, p.damping);
   nh.param("max_speed", p.max_speed, p.max_speed);
   nh.param("tf_timeout", p.tf_timeout, p.tf_timeout);
+  nh.param("tf_max_age", p.tf_max_age, p.tf_max_age);
   std::vector<double> g;
   if (nh.getParam("gravity", g)) {
     if (g.size() != 3) throw chs::InputError("parameter ~gravity must be [gx, gy, gz]");
@@ -107,6 +108,8 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
     throw chs::InputError("parameter ~damping must be >= 0");
   if (!(p.tf_timeout >= 0.0) || !std::isfinite(p.tf_timeout))
     throw chs::InputError("parameter ~tf_timeout must be >= 0");
+  if (!(p.tf_max_age >= 0.0) || !std::isfinite(p.tf_max_age))
+    throw chs::InputError("parameter ~tf_max_age must be >= 0 (0: any age)");
   p.particle.damping = p.damping;
   loadHybridShellSettings(ros::NodeHandle(nh, "mpm"), p.mpm);
   p.mpm.damping = p.damping;

@@ -16,9 +16,10 @@ struct TrackedCollider {
   std::string name;
   std::string frame_id;
   chs::ColliderShape shape;
-  double friction = 0.0;  // Coulomb mu of cloth on this collider
-  bool has_pose = false;  // seen at least once; until then the collider is inactive
-  bool stale = true;      // the last lookup failed: the last pose is held
+  double friction = 0.0;    // Coulomb mu of cloth on this collider
+  bool has_pose = false;    // seen at least once; until then the collider is inactive
+  bool stale = true;        // the last lookup failed or was too old: the last pose is held
+  bool reappeared = false;  // stale at the previous update, posed again now (teleported)
   Eigen::Isometry3d world_from_frame = Eigen::Isometry3d::Identity();
 
   Eigen::Isometry3d shapePose() const { return world_from_frame * shape.offset; }
@@ -39,11 +40,17 @@ std::vector<TrackedCollider> parseColliders(XmlRpc::XmlRpcValue& list);
 // scheme is taken as a path. Throws chs::InputError for another scheme or an unknown package.
 std::string resolveMeshUrl(const std::string& url);
 
-// Keeps the colliders' world poses current from tf. A frame that cannot be looked up keeps its
-// last pose (so the cloth is never teleported by a dropped transform) and is reported stale.
+// True if a transform stamped `stamp` is older than max_age_s at `now` (max_age_s <= 0: never).
+bool tooOld(const ros::Time& stamp, const ros::Time& now, double max_age_s);
+
+// Keeps the colliders' world poses current from tf. A frame that cannot be looked up, or whose
+// latest transform is older than max_age_s (a frame no longer published: tf keeps its last
+// transform forever; 0: any age), keeps its last pose (so the cloth is never teleported by a
+// dropped transform) and is reported stale.
 class ColliderTracker {
  public:
-  ColliderTracker(const tf2_ros::Buffer& buffer, std::string world_frame, double timeout_s);
+  ColliderTracker(const tf2_ros::Buffer& buffer, std::string world_frame, double timeout_s,
+                  double max_age_s);
   void setColliders(std::vector<TrackedCollider> colliders) { colliders_ = std::move(colliders); }
   // Looks every frame up at the latest available time. Returns false if any lookup failed.
   bool update();
@@ -59,6 +66,7 @@ class ColliderTracker {
   const tf2_ros::Buffer& buffer_;
   std::string world_frame_;
   double timeout_s_;
+  double max_age_s_;
   std::vector<TrackedCollider> colliders_;
 };
 

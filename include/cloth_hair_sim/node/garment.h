@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,8 @@ struct Garment {
   cloth_hair_sim::LoadGarment::Request request;
   Eigen::Isometry3d world_from_request_frame = Eigen::Isometry3d::Identity();
   std::map<std::string, Eigen::Isometry3d> world_from_frames;
+  // mpm: Coulomb mu between its layers when reconfigured live (else ~mpm/self_friction).
+  std::optional<double> self_friction;
 };
 
 // Rigid pose of a geometry_msgs/Pose; throws chs::InputError for NaN/Inf or a quaternion that

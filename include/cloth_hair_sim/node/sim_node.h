@@ -7,11 +7,13 @@
 #include <mutex>
 #include <string>
 
+#include <dynamic_reconfigure/server.h>
 #include <ros/ros.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include <boost/thread/recursive_mutex.hpp>
 
 #include "cloth_hair_sim/DrapeSolve.h"
 #include "cloth_hair_sim/GraspGarment.h"
@@ -19,6 +21,7 @@
 #include "cloth_hair_sim/LoadGarment.h"
 #include "cloth_hair_sim/ReleaseGrasp.h"
 #include "cloth_hair_sim/RemoveGarment.h"
+#include "cloth_hair_sim/SimConfig.h"
 #include "cloth_hair_sim/StateFile.h"
 #include "cloth_hair_sim/StepSim.h"
 #include "cloth_hair_sim/node/collider_tracker.h"
@@ -108,6 +111,9 @@ class SimNode {
   void addColliderLoads(double h);
   // Under mutex_: ~collider_wrench/<name>: each collider's mean load over the update.
   void publishColliderWrenches();
+  // Under mutex_: colliders and attachment frames that jumped in this update of `duration`
+  // simulated seconds (teleport.h) are teleported rather than swept (sim_node_teleport.cpp).
+  void teleportJumps(double duration);
   // Under mutex_: advances every garment by `count` substeps of h.
   void advance(int count, double h);
   // Under mutex_: one substep of one garment; a diverged step is rolled back and retried as two
@@ -116,6 +122,13 @@ class SimNode {
   bool diverged(const Garment& g) const;
   // Under mutex_: the largest substep every garment tolerates.
   double substepLimit() const;
+
+  // dynamic_reconfigure (cfg/Sim.cfg, sim_node_reconfigure.cpp): the server shows the node's
+  // parameters; a change is applied under mutex_, a refused value is put back and logged.
+  void startReconfigure();
+  void onReconfigure(cloth_hair_sim::SimConfig& config);
+  // Under mutex_: the material group, for the garment the config's `garment` names.
+  void reconfigureMaterial(cloth_hair_sim::SimConfig& config);
 
   ros::NodeHandle nh_, pnh_;
   SimParams params_;
@@ -162,6 +175,11 @@ class SimNode {
   std::unique_ptr<SimDiagnostics> diagnostics_;
   // Last: destroyed first, it cancels and waits for a running drape that uses the members above.
   std::unique_ptr<DrapeAction> drape_action_;
+  // Taken by the server around each callback; never while holding mutex_ (the callback takes
+  // mutex_ inside it).
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<cloth_hair_sim::SimConfig>> reconfigure_;
+  cloth_hair_sim::SimConfig live_;  // the last accepted configuration
 };
 
 }  // namespace chs_node

@@ -27,6 +27,8 @@ struct SimParams {
   double damping = 0.5;      // [1/s] viscous damping of either backend
   double max_speed = 50.0;   // [m/s] a faster vertex counts as a diverged step
   double tf_timeout = 0.01;  // [s] wait for a collider's transform in each update
+  // [s] a tf frame whose latest transform is older counts as missing (stale; 0: any age).
+  double tf_max_age = 1.0;
   // Backend settings: ~damping goes to both; the hybrid shell's own under ~mpm/.
   chs::ParticleDynamicsSettings particle;
   chs::HybridShellSettings mpm;

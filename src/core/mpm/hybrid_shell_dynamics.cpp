@@ -739,6 +739,17 @@ double HybridShellDynamics::kineticEnergy() const {
   return e;
 }
 
+void HybridShellDynamics::setGravity(const Vec3& gravity) {
+  if (!gravity.allFinite()) throw InputError("hybrid shell: gravity must be finite");
+  gravity_ = gravity;
+}
+
+void HybridShellDynamics::setDamping(double damping) {
+  if (!(damping >= 0.0 && std::isfinite(damping)))
+    throw InputError("hybrid shell: damping must be >= 0 and finite");
+  settings_.damping = damping;
+}
+
 void HybridShellDynamics::setColliders(const RigidSurfaces& colliders,
                                        const std::vector<SurfaceVelocity>& velocities,
                                        const std::vector<double>& frictions) {

@@ -197,6 +197,17 @@ double ParticleDynamics::kineticEnergy() const {
   return e;
 }
 
+void ParticleDynamics::setGravity(const Vec3& gravity) {
+  if (!gravity.allFinite()) throw InputError("particle dynamics: gravity must be finite");
+  loads_.setGravity(gravity);
+}
+
+void ParticleDynamics::setDamping(double damping) {
+  if (!std::isfinite(damping) || damping < 0.0)
+    throw InputError("particle dynamics: damping must be >= 0");
+  settings_.damping = damping;
+}
+
 Vec3 ParticleDynamics::centreOfMass() const {
   Vec3 c = Vec3::Zero();
   double m = 0.0;

@@ -16,13 +16,13 @@ ParticleLoads::ParticleLoads(const DrapeProblem& problem, const ParticleNetwork&
   mass_.resize(area.size());
   for (std::size_t i = 0; i < area.size(); ++i) {
     mass_[i] = problem.material.areal_density * area[i];
-    reference_force_ = std::max(reference_force_, mass_[i] * gravity_.norm());
+    max_mass_ = std::max(max_mass_, mass_[i]);
   }
   const auto& x0 = problem.mesh.vertices;
   for (const auto& l : problem.bc.loads) {
     if (l.force.squaredNorm() > 0.0) {
       forces_.push_back(l);
-      reference_force_ = std::max(reference_force_, l.force.norm());
+      reference_load_ = std::max(reference_load_, l.force.norm());
     }
     if (l.moment.squaredNorm() == 0.0) continue;
     Couple c;
@@ -42,9 +42,18 @@ ParticleLoads::ParticleLoads(const DrapeProblem& problem, const ParticleNetwork&
       throw InputError("nodal moment on vertex " + std::to_string(l.vertex) +
                        ": no edge there lies off the moment axis to carry it as a couple");
     const double arm = (x0[c.partner] - x0[l.vertex]).norm();
-    reference_force_ = std::max(reference_force_, l.moment.norm() / arm);
+    reference_load_ = std::max(reference_load_, l.moment.norm() / arm);
     couples_.push_back(c);
   }
+}
+
+void ParticleLoads::setGravity(const Eigen::Vector3d& gravity) {
+  if (!gravity.allFinite()) throw InputError("particle loads: gravity must be finite");
+  gravity_ = gravity;
+}
+
+double ParticleLoads::referenceForce() const {
+  return std::max(max_mass_ * gravity_.norm(), reference_load_);
 }
 
 void ParticleLoads::addForces(const std::vector<Eigen::Vector3d>& x, double gravity_scale,

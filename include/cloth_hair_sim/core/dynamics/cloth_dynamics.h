@@ -52,6 +52,12 @@ class ClothDynamics {
   virtual const std::vector<double>& masses() const = 0;
   virtual double kineticEnergy() const = 0;
 
+  // Live changes between steps (a ROS node's dynamic_reconfigure): the gravity acceleration and
+  // the viscous damping rate [1/s]. Throw InputError for a non-finite gravity or a damping that
+  // is negative or not finite, the previous value kept.
+  virtual void setGravity(const Eigen::Vector3d& gravity) = 0;
+  virtual void setDamping(double damping) = 0;
+
   // Obstacles that move (re-posed between steps). velocities: one per collider, or empty for
   // obstacles at rest; frictions: Coulomb mu per collider, or empty for the backend's default.
   // Throws InputError for a null surface or a count mismatch.

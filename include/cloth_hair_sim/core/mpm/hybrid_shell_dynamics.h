@@ -149,6 +149,8 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   void setVelocities(const std::vector<Eigen::Vector3d>& v) override;
   const std::vector<double>& masses() const override { return control_.mass; }
   double kineticEnergy() const override;  // of control, contact and solid particles
+  void setGravity(const Eigen::Vector3d& gravity) override;
+  void setDamping(double damping) override;  // settings().damping
 
   void setColliders(const RigidSurfaces& colliders,
                     const std::vector<SurfaceVelocity>& velocities = {},

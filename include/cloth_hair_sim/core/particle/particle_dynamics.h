@@ -65,6 +65,8 @@ class ParticleDynamics : public ClothDynamics {
 
   const std::vector<double>& masses() const override { return loads_.masses(); }
   double kineticEnergy() const override;
+  void setGravity(const Eigen::Vector3d& gravity) override;
+  void setDamping(double damping) override;
   double elasticEnergy() const { return network_.elasticEnergy(x_); }
   double externalPotential() const { return loads_.potential(x_); }  // gravity, nodal forces
   double potentialEnergy() const { return elasticEnergy() + externalPotential(); }

@@ -19,11 +19,13 @@ class ParticleLoads {
   ParticleLoads(const DrapeProblem& problem, const ParticleNetwork& network);
 
   const std::vector<double>& masses() const { return mass_; }
+  // Replaces the problem's gravity (the weights change with it); throws InputError if not finite.
+  void setGravity(const Eigen::Vector3d& gravity);
   // Adds weight (scaled by gravity_scale) and the nodal loads (scaled by load_scale) to f.
   void addForces(const std::vector<Eigen::Vector3d>& x, double gravity_scale, double load_scale,
                  std::vector<Eigen::Vector3d>& f) const;
   // Largest applied nodal force at full load: the scale of the equilibrium residual.
-  double referenceForce() const { return reference_force_; }
+  double referenceForce() const;
   // Potential of gravity and of the nodal forces (couples are not included).
   double potential(const std::vector<Eigen::Vector3d>& x) const;
 
@@ -36,7 +38,8 @@ class ParticleLoads {
   std::vector<double> mass_;
   std::vector<NodalLoad> forces_;
   std::vector<Couple> couples_;
-  double reference_force_ = 0.0;
+  double max_mass_ = 0.0;        // the heaviest node's mass: its weight scales with gravity
+  double reference_load_ = 0.0;  // the largest prescribed nodal force (or couple's force)
 };
 
 }  // namespace chs
