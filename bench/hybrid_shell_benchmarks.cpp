@@ -1,6 +1,8 @@
 // Hybrid shell benchmarks (run by hand, never by ctest): the cost of one explicit step of
 // HybridShellDynamics on a square sheet of n x n quads lying on a sphere, split into the stages
-// of stageTimes(), and the Kirchhoff-Love energy gradient alone (the shell forces' core).
+// of stageTimes(), the Kirchhoff-Love energy gradient alone (the shell forces' core), and two
+// sheets lying on each other stepped as two bodies of one World against the same two each on a
+// grid of its own (the price of contact between their velocity fields).
 //
 // Arguments: {quads per side, TBB threads} and, for the step, the in-plane Gauss order of the
 // Kirchhoff-Love quadrature (KirchhoffLoveQuadrature::in_plane_order). Counters are per step: stage
@@ -18,6 +20,7 @@
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
+#include "cloth_hair_sim/core/world/world.h"
 
 namespace {
 
@@ -103,6 +106,47 @@ void kirchhoffLoveGradient(benchmark::State& state) {
 BENCHMARK(kirchhoffLoveGradient)
     ->ArgsProduct({{32, 90}, {1, 2}})
     ->ArgNames({"quads", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Two n x n sheets, the upper one a quarter cell above the lower one, over the sphere: one step
+// of both, in one world (in_world = 1: field contact between them) or each alone (0).
+void twoSheets(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const bool in_world = state.range(1) != 0;
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+  chs::HybridShellSettings settings;
+  settings.grid_spacing = 1.0 / n;
+  chs::DrapeProblem upper = sheetOverSphere(n);
+  for (auto& x : upper.mesh.vertices) x.z() += 0.3 * settings.grid_spacing;
+  auto a = std::make_shared<chs::HybridShellDynamics>(sheetOverSphere(n), settings);
+  auto b = std::make_shared<chs::HybridShellDynamics>(upper, settings);
+  chs::WorldSettings ws;
+  ws.grid_spacing = settings.grid_spacing;
+  chs::World world(ws);
+  world.add("lower", a);
+  world.add("upper", b);
+  world.setColliders(a->colliders(), {}, {});
+  const double dt = std::min(a->stableTimeStep(), b->stableTimeStep());
+  int contact_nodes = 0, steps = 0;
+  auto step = [&] {
+    if (in_world) {
+      contact_nodes += world.step(dt).contact.contact_nodes;
+    } else {
+      a->step(dt);
+      b->step(dt);
+    }
+    ++steps;
+  };
+  for (int i = 0; i < 20; ++i) step();
+  contact_nodes = steps = 0;
+  for (auto _ : state) step();
+  state.counters["quads_per_sheet"] = n * n;
+  state.counters["contact_nodes_per_step"] = static_cast<double>(contact_nodes) / steps;
+}
+BENCHMARK(twoSheets)
+    ->ArgsProduct({{32, 64}, {0, 1}})
+    ->ArgNames({"quads", "in_world"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

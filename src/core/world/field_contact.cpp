@@ -42,17 +42,11 @@ FieldContactStats resolveFieldContact(std::vector<ContactField>& fields, int deg
   if (touched) touched->assign(nf, 0);
   FieldContactStats stats;
   if (nf < 2) return stats;
-  for (int b = 0; b < nf; ++b) {
+  for (int b = 0; b < nf; ++b)
     if (fields[b].grid->spacing() != fields[0].grid->spacing())
       throw InputError("field contact: field " + std::to_string(b) + " has spacing " +
                        std::to_string(fields[b].grid->spacing()) + ", field 0 " +
                        std::to_string(fields[0].grid->spacing()));
-    if (!fields[b].normals.empty() &&
-        static_cast<int>(fields[b].normals.size()) != fields[b].grid->size())
-      throw InputError("field contact: field " + std::to_string(b) + " has " +
-                       std::to_string(fields[b].normals.size()) + " normals for " +
-                       std::to_string(fields[b].grid->size()) + " nodes");
-  }
   std::vector<Box> box(nf);
   for (int b = 0; b < nf; ++b)
     for (int i = 0; i < fields[b].grid->size(); ++i)
@@ -64,9 +58,16 @@ FieldContactStats resolveFieldContact(std::vector<ContactField>& fields, int deg
   for (int a = 0; a < nf; ++a)
     for (int b = 0; b < nf; ++b)
       if (a != b && box[a].overlaps(box[b])) neighbours[a].push_back(b);
-  std::vector<std::vector<Vec3>> q(nf);
-  for (int b = 0; b < nf; ++b)
-    if (!neighbours[b].empty()) firstMoment(*fields[b].grid, fields[b].carriers, degree, q[b]);
+  std::vector<std::vector<Vec3>> q(nf), normals(nf);
+  for (int b = 0; b < nf; ++b) {
+    if (neighbours[b].empty()) continue;
+    firstMoment(*fields[b].grid, fields[b].carriers, degree, q[b]);
+    if (fields[b].normals) fields[b].normals(normals[b]);
+    if (!normals[b].empty() && static_cast<int>(normals[b].size()) != fields[b].grid->size())
+      throw InputError("field contact: field " + std::to_string(b) + " has " +
+                       std::to_string(normals[b].size()) + " normals for " +
+                       std::to_string(fields[b].grid->size()) + " nodes");
+  }
 
   // Changes from the velocities before the stage, applied at the end.
   std::vector<std::vector<std::pair<int, Vec3>>> change(nf);
@@ -99,8 +100,8 @@ FieldContactStats resolveFieldContact(std::vector<ContactField>& fields, int deg
         m_total += f.mass[g.node];
         p_total += f.mass[g.node] * f.velocity[g.node];
         q_total += q[g.field][g.node];
-        if (fields[g.field].normals.empty()) continue;
-        const Vec3& n = fields[g.field].normals[g.node];
+        if (normals[g.field].empty()) continue;
+        const Vec3& n = normals[g.field][g.node];
         axis += axis.dot(n) < 0.0 ? Vec3(-n) : n;  // normals of either orientation
       }
       const double axis_norm = axis.norm();

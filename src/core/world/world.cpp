@@ -113,7 +113,8 @@ WorldStepReport World::step(double dt) {
     for (std::size_t b = 0; b < bodies_.size(); ++b) {
       fields[b].grid = &bodies_[b].body->field();
       fields[b].carriers = bodies_[b].body->fieldCarriers();
-      bodies_[b].body->fieldNormals(fields[b].normals);
+      const Body* body = bodies_[b].body.get();
+      fields[b].normals = [body](std::vector<Eigen::Vector3d>& n) { body->fieldNormals(n); };
     }
     FieldContactSettings contact{settings_.body_friction, settings_.contact_distance};
     if (contact.contact_distance <= 0.0) contact.contact_distance = 0.25 * spacing_;

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <vector>
 
 #include "cloth_hair_sim/core/mpm/particle_projection.h"
@@ -20,12 +21,12 @@ namespace chs {
 // Contact is speculative: b may approach r at w = (v_b - v_r) . n no faster than (d - delta) /
 // dt, so that the two come no closer than the contact distance delta within the step and no
 // layer passes another between two grid updates; closer than 1.5 delta the contact is closed
-// (no approach at all), so that a resting layer gets its impulse every step. The excess dw is removed by the normal impulse
-// J_n = mu_r dw (mu_r = m_b m_r / (m_b + m_r)), and the tangential relative velocity v_t by a
-// Coulomb impulse of at most friction J_n (stick when that stops it). All changes are computed
-// from the velocities before the stage and then applied; between two fields they conserve linear
-// momentum exactly (three or more at one node: each meets the mass-weighted rest, momentum to
-// first order).
+// (no approach at all), so that a resting layer gets its impulse every step. The excess dw is
+// removed by the normal impulse J_n = mu_r dw (mu_r = m_b m_r / (m_b + m_r)), and the tangential
+// relative velocity v_t by a Coulomb impulse of at most friction J_n (stick when that stops it).
+// All changes are computed from the velocities before the stage and then applied; between two
+// fields they conserve linear momentum exactly (three or more at one node: each meets the
+// mass-weighted rest, momentum to first order).
 struct FieldContactSettings {
   double friction = 0.3;          // Coulomb mu between bodies
   double contact_distance = 0.0;  // delta [m]
@@ -37,12 +38,12 @@ struct FieldContactStats {
 };
 
 // One body's field: its grid (all of the same spacing), the particles that gave it its mass with
-// their supports (for q_b), and optionally a surface normal per node (any sign, any length; empty
-// when the body has none).
+// their supports (for q_b), and what fills a surface normal per node (any sign, any length; left
+// empty when the body has none), called only for a field that may meet another.
 struct ContactField {
   mpm::SparseGrid* grid = nullptr;
   std::vector<mpm::MassCarriers> carriers;
-  std::vector<Eigen::Vector3d> normals;
+  std::function<void(std::vector<Eigen::Vector3d>&)> normals;
 };
 
 // degree: the B-spline degree of all fields. touched[b] is set when field b changed. Throws
