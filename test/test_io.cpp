@@ -336,6 +336,101 @@ TEST(Scene, GarmentFile) {
   fs::remove_all(dir);
 }
 
+// A closed cube [-1, 1]^3 (quads, triangulated by assimp); with missing_face one face is left
+// out and the surface is open.
+void writeCube(const fs::path& path, bool missing_face = false) {
+  std::string s =
+      "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+      "f 1 4 3 2\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  if (!missing_face) s += "f 5 6 7 8\n";
+  writeText(path, s);
+}
+
+std::string colliderScene(const std::string& collider) {
+  return "garment: {rectangle: {size: [0.2, 0.2], cells: [2, 2], centre: [0, 0, 2]}}\n"
+         "material: cotton_eischen\ncolliders:\n  - " +
+         collider + "\n";
+}
+
+TEST(Scene, CapsuleAndMeshColliders) {
+  const fs::path dir = tempDir();
+  writeCube(dir / "cube.obj");
+  writeText(dir / "scene.yaml",
+            "garment: {rectangle: {size: [0.2, 0.2], cells: [2, 2], centre: [0, 0, 2]}}\n"
+            "material: cotton_eischen\n"
+            "colliders:\n"
+            "  - capsule: {a: [-0.3, 0, 0], b: [0.3, 0, 0], radius: 0.05}\n"
+            "  - capsule: {centre: [0, 0, 1], axis: [0, 0, 2], length: 0.4, radius: 0.1}\n"
+            "  - mesh: {file: cube.obj, scale: 0.1, position: [0, 0, 1], rpy: [0, 0, "
+            "0.7853981633974483], voxel_size: 0.005}\n"
+            "  - mesh: {file: cube.obj, scale: [0.1, 0.1, 0.1], position: [0, 0, 1], "
+            "quaternion: [0, 0, 0.3826834323650898, 0.9238795325112867], voxel_size: 0.01}\n");
+  const Scene s = loadScene((dir / "scene.yaml").string());
+  ASSERT_EQ(s.colliders.size(), 4u);
+  ASSERT_EQ(s.problem.colliders.size(), 4u);
+  EXPECT_EQ(s.colliders[0].type, ColliderSpec::Type::kCapsule);
+  EXPECT_EQ(s.colliders[1].end_a, Eigen::Vector3d(0, 0, 0.8));
+  EXPECT_EQ(s.colliders[1].end_b, Eigen::Vector3d(0, 0, 1.2));
+  const auto& bar = *s.problem.colliders[0];
+  EXPECT_NEAR(bar.project({0.1, 0, 0.2}).gap, 0.15, 1e-12);
+  EXPECT_NEAR(bar.project({0.4, 0, 0}).gap, 0.05, 1e-12);  // beyond the cap centre
+  EXPECT_NEAR(s.problem.colliders[1]->project({0, 0, 1.5}).gap, 0.2, 1e-12);
+  // The cube turned 45 degrees about z: a corner edge at x = 0.1 sqrt(2), the top at z = 1.1.
+  EXPECT_EQ(s.colliders[2].type, ColliderSpec::Type::kMesh);
+  EXPECT_EQ(s.colliders[2].mesh_file, (dir / "cube.obj").string());
+  EXPECT_DOUBLE_EQ(s.colliders[2].mesh_field->voxelSize(), 0.005);
+  for (int c = 2; c < 4; ++c) {
+    const auto& cube = *s.problem.colliders[c];
+    const SurfaceProjection top = cube.project({0, 0, 1.12});
+    EXPECT_NEAR(top.gap, 0.02, 2e-3);
+    EXPECT_GT(top.normal.z(), 0.99);
+    EXPECT_NEAR(cube.project({0.16, 0, 1}).gap, 0.16 - 0.1 * std::sqrt(2.0), 5e-3);
+    EXPECT_LT(cube.project({0, 0.05, 1}).gap, -0.04);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(Scene, BadCapsuleAndMeshColliders) {
+  const fs::path dir = tempDir();
+  writeCube(dir / "cube.obj");
+  writeCube(dir / "open.obj", true);
+  auto load = [&](const std::string& collider) {
+    writeText(dir / "scene.yaml", colliderScene(collider));
+    return loadScene((dir / "scene.yaml").string());
+  };
+  expectInputError([&] { load("capsule: {a: [0, 0, 0], b: [1, 0, 0], radius: 0}"); },
+                   {"colliders[0].capsule.radius", "positive"});
+  expectInputError([&] { load("capsule: {a: [0, 0, 0], b: [1, 0, 0], radius: 0.1, r: 1}"); },
+                   {"colliders[0].capsule.r", "unknown key"});
+  expectInputError([&] { load("capsule: {a: [0, 0, 0], radius: 0.1}"); },
+                   {"colliders[0].capsule.b", "missing"});
+  expectInputError(
+      [&] { load("capsule: {centre: [0, 0, 0], axis: [0, 0, 0], length: 1, radius: 0.1}"); },
+      {"colliders[0].capsule.axis", "zero"});
+  expectInputError([&] { load("mesh: {file: nothere.stl}"); },
+                   {"colliders[0].mesh.file", "nothere.stl", "no such mesh file"});
+  expectInputError([&] { load("mesh: {scale: 2}"); }, {"colliders[0].mesh.file", "missing"});
+  expectInputError([&] { load("mesh: {file: open.obj}"); },
+                   {"colliders[0].mesh.file", "open.obj", "not closed"});
+  expectInputError([&] { load("mesh: {file: cube.obj, scale: -1}"); },
+                   {"colliders[0].mesh.scale", "positive"});
+  expectInputError([&] { load("mesh: {file: cube.obj, scale: [1, 0, 1]}"); },
+                   {"colliders[0].mesh.scale", "positive"});
+  expectInputError([&] { load("mesh: {file: cube.obj, voxel_size: 0}"); },
+                   {"colliders[0].mesh.voxel_size", "positive"});
+  expectInputError([&] { load("mesh: {file: cube.obj, colour: red}"); },
+                   {"colliders[0].mesh.colour", "unknown key"});
+  expectInputError([&] { load("mesh: {file: cube.obj, quaternion: [0, 0, 0, 2]}"); },
+                   {"colliders[0].mesh.quaternion", "unit"});
+  expectInputError(
+      [&] { load("mesh: {file: cube.obj, rpy: [0, 0, 0], quaternion: [0, 0, 0, 1]}"); },
+      {"colliders[0].mesh.quaternion", "either"});
+  expectInputError([&] { load("mesh: {file: cube.obj, parts: [torso]}"); },
+                   {"colliders[0].mesh.file", "torso"});
+  expectInputError([&] { load("cone: {radius: 1}"); }, {"colliders[0].cone", "capsule", "mesh"});
+  fs::remove_all(dir);
+}
+
 TEST(Report, JsonHasResultAndReactions) {
   DrapeResult r;
   r.converged = false;

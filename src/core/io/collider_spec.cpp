@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
+
+#include "cloth_hair_sim/core/contact/capsule_surface.h"
+#include "cloth_hair_sim/core/contact/posed_surface.h"
 
 namespace chs {
 
@@ -17,6 +22,10 @@ std::shared_ptr<const RigidSurface> ColliderSpec::makeSurface() const {
       return std::make_shared<CylinderSurface>(axis_xy, radius, z_bottom, z_top, edge_radius);
     case Type::kSphere:
       return std::make_shared<SphereSurface>(point, radius);
+    case Type::kCapsule:
+      return std::make_shared<CapsuleSurface>(end_a, end_b, radius);
+    case Type::kMesh:
+      return std::make_shared<PosedSurface>(mesh_field, pose);
   }
   return nullptr;
 }
@@ -68,6 +77,43 @@ QuadPatches sketchCollider(const ColliderSpec& s, double z_floor, double extent)
           std::array<V, 4> q{at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
           if (std::max({q[0].z(), q[1].z(), q[2].z(), q[3].z()}) >= z_floor) out.push_back(q);
         }
+      break;
+    }
+    case ColliderSpec::Type::kCapsule: {
+      // Rings swept along the axis: each cap a quarter circle of profile, the side one band.
+      const V axis = s.end_b - s.end_a;
+      const double length = axis.norm();
+      const V e = length > 0.0 ? V(axis / length) : V::UnitZ();
+      const V u = e.unitOrthogonal(), w = e.cross(u);
+      const int nc = 8, np = 32;
+      std::vector<std::pair<double, double>> profile;  // (distance along e from a, ring radius)
+      for (int i = 0; i <= nc; ++i) {
+        const double t = -M_PI / 2 + M_PI / 2 * i / nc;
+        profile.emplace_back(s.radius * std::sin(t), s.radius * std::cos(t));
+      }
+      for (int i = 0; i <= nc; ++i) {
+        const double t = M_PI / 2 * i / nc;
+        profile.emplace_back(length + s.radius * std::sin(t), s.radius * std::cos(t));
+      }
+      auto at = [&](std::size_t i, int j) {
+        const double ph = 2 * M_PI * j / np;
+        return V(s.end_a + profile[i].first * e +
+                 profile[i].second * (std::cos(ph) * u + std::sin(ph) * w));
+      };
+      for (std::size_t i = 0; i + 1 < profile.size(); ++i)
+        for (int j = 0; j < np; ++j) {
+          std::array<V, 4> q{at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+          if (std::max({q[0].z(), q[1].z(), q[2].z(), q[3].z()}) >= z_floor) out.push_back(q);
+        }
+      break;
+    }
+    case ColliderSpec::Type::kMesh: {
+      const TriangleMesh& mesh = s.mesh_field->mesh();
+      for (const auto& t : mesh.triangles) {
+        const V a = s.pose * mesh.vertices[t[0]], b = s.pose * mesh.vertices[t[1]],
+                c = s.pose * mesh.vertices[t[2]];
+        if (std::max({a.z(), b.z(), c.z()}) >= z_floor) out.push_back({a, b, c, c});
+      }
       break;
     }
   }

@@ -96,7 +96,10 @@ void plotDrape(const QuadMesh& mesh, const std::vector<Eigen::Vector3d>& positio
       any_solid = true;
     }
   s << "EOD\n";
-  const double zspan = std::max(hi.z() - lo.z(), 1e-9 * extent);
+  // A flat result has no z span: gnuplot refuses an empty colour range, and one below the
+  // 8 printed digits of lo.z is empty too. A span of 1e-3 of the extent (or 1e-6 of |z|) keeps
+  // it open while the colours still show any real height difference.
+  const double zspan = std::max({hi.z() - lo.z(), 1e-3 * extent, 1e-6 * std::abs(lo.z())});
   s << "set terminal pngcairo size 1400,700 enhanced font 'DejaVu Sans,11'\n"
     << "set output " << gnuplotQuote(png_path) << "\n"
     << "set multiplot layout 1,2 title " << gnuplotQuote(title) << " noenhanced\n"

@@ -9,10 +9,12 @@
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
+#include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/io/mesh_reader.h"
+#include "cloth_hair_sim/core/io/triangle_mesh_reader.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mesh/vertex_selection.h"
 
@@ -274,14 +276,99 @@ double edgeRadius(Section& s, double fallback) {
   return r;
 }
 
-ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
+// A rigid pose: position plus rpy (radians, URDF order: yaw about z, then pitch about y, then
+// roll about x, i.e. R = Rz Ry Rx) or quaternion [x, y, z, w].
+Eigen::Isometry3d parsePose(Section& s) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = s.vector3("position", Eigen::Vector3d::Zero());
+  if (s.has("rpy") && s.has("quaternion"))
+    fail(s.key("quaternion"), "give either rpy or quaternion");
+  if (s.has("rpy")) {
+    const Eigen::Vector3d rpy = s.vector("rpy", 3);
+    pose.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                     Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+                        .toRotationMatrix();
+  } else if (s.has("quaternion")) {
+    const Eigen::VectorXd q = s.vector("quaternion", 4);
+    // A quaternion written with a few digits is off unit length by ~1e-4; more is a typo.
+    if (std::abs(q.norm() - 1.0) > 1e-3)
+      fail(s.key("quaternion"),
+           "must be a unit quaternion [x, y, z, w], its norm is " + str(q.norm()));
+    pose.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
+  }
+  return pose;
+}
+
+// A closed triangle mesh file (any assimp format) as a distance field, posed in the world.
+void parseMeshCollider(Section& s, const std::string& base_dir, ColliderSpec& c) {
+  c.type = ColliderSpec::Type::kMesh;
+  const std::string file = s.text("file", "");
+  if (file.empty()) fail(s.key("file"), "missing (a closed triangle mesh, e.g. .stl, .obj, .dae)");
+  const std::filesystem::path p(file);
+  c.mesh_file = p.is_absolute() ? file : (std::filesystem::path(base_dir) / p).string();
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+  if (s.has("scale")) {
+    const YAML::Node n = s.get("scale");
+    scale = n.IsSequence() ? Eigen::Vector3d(Section::toVector(n, s.key("scale"), 3))
+                           : Eigen::Vector3d::Constant(Section::toNumber(n, s.key("scale")));
+    if (!(scale.array() > 0.0).all()) fail(s.key("scale"), "must be positive");
+  }
+  c.pose = parsePose(s);
+  std::vector<std::string> parts;
+  if (YAML::Node n = s.get("parts")) {
+    if (!n.IsSequence() || n.size() == 0) fail(s.key("parts"), "must be a list of names");
+    for (const auto& name : n) {
+      if (!name.IsScalar()) fail(s.key("parts"), "must be a list of names");
+      parts.push_back(name.Scalar());
+    }
+  }
+  MeshSdfResolution resolution;
+  if (s.has("voxel_size")) resolution.voxel_size = s.positive("voxel_size");
+  s.done();  // unknown keys before the file is read and its field built (seconds for a body)
+  TriangleMesh mesh;
+  try {
+    mesh = readTriangleMesh(c.mesh_file, scale, parts);  // its errors name the file
+  } catch (const InputError& e) {
+    fail(s.key("file"), e.what());
+  }
+  try {
+    c.mesh_field = std::make_shared<const MeshSdfSurface>(mesh, resolution);
+  } catch (const InputError& e) {
+    fail(s.key("file"), c.mesh_file + ": " + e.what());
+  }
+}
+
+// A capsule by its cap centres {a, b, radius} or by {centre, axis, length, radius}, where length
+// is the distance between the cap centres (as ColliderShape, SDF and URDF capsules).
+void parseCapsule(Section& s, ColliderSpec& c) {
+  c.type = ColliderSpec::Type::kCapsule;
+  c.radius = s.positive("radius");
+  if (s.has("a") || s.has("b")) {
+    if (s.has("centre")) fail(s.key("centre"), "give either a and b or centre, axis and length");
+    c.end_a = s.vector("a", 3);
+    c.end_b = s.vector("b", 3);
+  } else {
+    const Eigen::Vector3d centre = s.vector("centre", 3);
+    const Eigen::Vector3d axis = s.vector("axis", 3);
+    if (!(axis.norm() > 0.0)) fail(s.key("axis"), "must not be zero");
+    const double length = s.number("length");
+    if (length < 0.0) fail(s.key("length"), "must not be negative (0 is a sphere)");
+    c.end_a = centre - 0.5 * length * axis.normalized();
+    c.end_b = centre + 0.5 * length * axis.normalized();
+  }
+}
+
+ColliderSpec parseCollider(const YAML::Node& node, const std::string& key,
+                           const std::string& base_dir) {
   if (!node.IsMap() || node.size() != 1)
     fail(key,
-         "a collider is a mapping with one key: plane, table, box, pedestal, cylinder or "
-         "sphere");
+         "a collider is a mapping with one key: plane, table, box, pedestal, cylinder, sphere, "
+         "capsule or mesh");
   Section outer(node, key);
   const std::string kind =
-      kindOf(outer, {"plane", "table", "box", "pedestal", "cylinder", "sphere"}, "collider");
+      kindOf(outer, {"plane", "table", "box", "pedestal", "cylinder", "sphere", "capsule", "mesh"},
+             "collider");
   Section s(outer.get(kind), key + "." + kind);
   ColliderSpec c;
   c.label = kind;
@@ -315,10 +402,14 @@ ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
     c.z_top = top.z();
     c.z_bottom = top.z() - depth;
     c.edge_radius = edgeRadius(s, std::min({c.radius / 100.0, depth / 2, 1e-3}));
-  } else {
+  } else if (kind == "sphere") {
     c.type = ColliderSpec::Type::kSphere;
     c.point = s.vector3("centre", Eigen::Vector3d::Zero());
     c.radius = s.positive("radius");
+  } else if (kind == "capsule") {
+    parseCapsule(s, c);
+  } else {
+    parseMeshCollider(s, base_dir, c);
   }
   s.done();
   return c;
@@ -516,7 +607,7 @@ Scene parse(const YAML::Node& root, const std::string& base_dir, const std::stri
     if (!colliders.IsSequence()) fail("colliders", "must be a list");
     for (std::size_t i = 0; i < colliders.size(); ++i) {
       scene.colliders.push_back(
-          parseCollider(colliders[i], "colliders[" + std::to_string(i) + "]"));
+          parseCollider(colliders[i], "colliders[" + std::to_string(i) + "]", base_dir));
       scene.problem.colliders.push_back(scene.colliders.back().makeSurface());
     }
   }

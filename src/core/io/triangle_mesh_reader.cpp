@@ -3,6 +3,7 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <assimp/postprocess.h>
@@ -18,8 +19,10 @@ namespace {
 
 struct Collector {
   Eigen::Vector3d scale;
+  std::set<std::string> parts;  // node or mesh names to keep; empty keeps all
   TriangleMesh mesh;
   std::map<std::array<double, 3>, int> index;  // merges corners written with equal coordinates
+  std::set<std::string> found, names;          // parts met; every node and mesh name
 
   int vertex(const aiVector3D& p) {
     const std::array<double, 3> key{scale.x() * p.x, scale.y() * p.y, scale.z() * p.z};
@@ -28,10 +31,20 @@ struct Collector {
     return it->second;
   }
 
-  void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent) {
+  // A kept node keeps its meshes and its whole subtree.
+  bool keep(const aiString& name, bool inherited) {
+    names.insert(name.C_Str());
+    if (!parts.count(name.C_Str())) return inherited;
+    found.insert(name.C_Str());
+    return true;
+  }
+
+  void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, bool kept) {
     const aiMatrix4x4 transform = parent * node.mTransformation;
+    kept = keep(node.mName, kept);
     for (unsigned i = 0; i < node.mNumMeshes; ++i) {
       const aiMesh& m = *scene.mMeshes[node.mMeshes[i]];
+      if (!keep(m.mName, kept)) continue;
       for (unsigned f = 0; f < m.mNumFaces; ++f) {
         const aiFace& face = m.mFaces[f];
         if (face.mNumIndices != 3) continue;  // points and lines bound no volume
@@ -40,13 +53,15 @@ struct Collector {
         mesh.triangles.push_back(tri);
       }
     }
-    for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], transform);
+    for (unsigned c = 0; c < node.mNumChildren; ++c)
+      collect(scene, *node.mChildren[c], transform, kept);
   }
 };
 
 }  // namespace
 
-TriangleMesh readTriangleMesh(const std::string& path, const Eigen::Vector3d& scale) {
+TriangleMesh readTriangleMesh(const std::string& path, const Eigen::Vector3d& scale,
+                              const std::vector<std::string>& parts) {
   if (!scale.allFinite() || !(scale.array() > 0.0).all()) {
     std::ostringstream s;
     s << path << ": mesh scale must be positive and finite, got (" << scale.transpose() << ")";
@@ -59,8 +74,15 @@ TriangleMesh readTriangleMesh(const std::string& path, const Eigen::Vector3d& sc
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate);
   if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw InputError(path + ": cannot read mesh: " + importer.GetErrorString());
-  Collector c{scale, {}, {}};
-  c.collect(*scene, *scene->mRootNode, aiMatrix4x4());
+  Collector c{scale, {parts.begin(), parts.end()}, {}, {}, {}, {}};
+  c.collect(*scene, *scene->mRootNode, aiMatrix4x4(), parts.empty());
+  for (const auto& p : parts)
+    if (!c.found.count(p)) {
+      std::string known;
+      for (const auto& n : c.names)
+        if (!n.empty()) known += (known.empty() ? "" : ", ") + n;
+      throw InputError(path + ": no node or mesh named '" + p + "' (the file has: " + known + ")");
+    }
   if (c.mesh.triangles.empty()) throw InputError(path + ": the file holds no triangles");
   return std::move(c.mesh);
 }

@@ -41,6 +41,14 @@ struct SceneOutput {
 //     plane: {point, normal} | box: {min, max} | sphere: {centre, radius}
 //     table: {top_centre: [x, y, z], size: [sx, sy], depth}   (a box below its top face)
 //     pedestal | cylinder: {top_centre: [x, y, z], radius, depth}  (vertical axis)
+//     capsule: {a: [x, y, z], b: [x, y, z], radius}  (a, b: the cap centres) or
+//              {centre, axis, length, radius}  (length: between the cap centres)
+//     mesh: {file: path (any assimp format, relative to the scene), scale: s | [sx, sy, sz],
+//            position: [x, y, z], rpy: [r, p, y] (rad, R = Rz(y) Ry(p) Rx(r) as URDF) |
+//            quaternion: [x, y, z, w], voxel_size [m] (default: see MeshSdfResolution),
+//            parts: [node or mesh names] (default: all of the file)}
+//       a closed triangle mesh as a signed distance field (MeshSdfSurface); the file's
+//       coordinates are scaled, then rotated, then moved by position
 //   boundary: {clamped: S, pinned: S, fixed: [{vertices: S, axes: [x, y, z]}],
 //              loads: [{vertices: S, force: [..], moment: [..]}]}
 //     S, a vertex selector: an index, a list of selectors, or one of {vertex: i},
