@@ -14,6 +14,7 @@ import rostest
 from cloth_hair_sim.msg import SimStatus
 from cloth_hair_sim.srv import (GraspGarment, LoadGarment, LoadGarmentRequest, RemoveGarment)
 from geometry_msgs.msg import TransformStamped
+from std_srvs.srv import SetBool
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import MarkerArray
 from latest_message import LatestMessage
@@ -96,6 +97,7 @@ class TfRobustness(unittest.TestCase):
         cls.load = rospy.ServiceProxy('/sim/load_garment', LoadGarment)
         cls.remove = rospy.ServiceProxy('/sim/remove_garment', RemoveGarment)
         cls.grasp = rospy.ServiceProxy('/sim/grasp', GraspGarment)
+        cls.pause = rospy.ServiceProxy('/sim/pause', SetBool)
 
     def setUp(self):
         self.frames.set('table', (0.0, 0.0, TABLE_TOP))
@@ -118,10 +120,13 @@ class TfRobustness(unittest.TestCase):
                                  material='cotton_eischen')
         req.pose.position.x, req.pose.position.y, req.pose.position.z = xyz
         req.pose.orientation.w = 1.0
+        if grasp_radius > 0.0:  # paused: the patch must not fall away before the grasp closes
+            self.assertTrue(self.pause(data=True).success)
         res = self.load(req)
         self.assertTrue(res.success, res.message)
         if grasp_radius > 0.0:
             res = self.grasp(name='hold', garment='patch', frame_id='hand', radius=grasp_radius)
+            self.assertTrue(self.pause(data=False).success)
             self.assertTrue(res.success, res.message)
         time.sleep(3.0)  # falls or swings down and settles (damping 2 1/s)
         energy, statuses, clouds = self.watch.over(0.3)
