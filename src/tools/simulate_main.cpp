@@ -119,12 +119,13 @@ int run(const Options& opt) {
     }
   };
   auto renderFrame = [&](const Frame& f) {
-    char name[32];
+    char name[32], caption[64];
     std::snprintf(name, sizeof name, "render_%04d.png", f.index);
+    std::snprintf(caption, sizeof caption, ", frame %d, t = %.3f s", f.index,
+                  f.index / scene.frame_rate);
     picture(name, [&] {
       chs::plotSimulationFrame(f.surfaces, names, scene.colliders, f.poses, (dir / name).string(),
-                               title + ", frame " + std::to_string(f.index) + ", t = " +
-                                   std::to_string(f.index / scene.frame_rate).substr(0, 5) + " s");
+                               title + caption);
     });
   };
   // Meshes of the frame just reached, its picture if asked for; kept for a final "last".
