@@ -46,7 +46,6 @@ class SimulationRun {
   // the shell refuses.
   explicit SimulationRun(const SimulationScene& scene, int max_halvings = 4);
 
-  const SimulationScene& scene() const { return scene_; }
   int numFrames() const { return scene_.numFrames(); }
   int framesDone() const { return frames_done_; }
   bool finished() const { return frames_done_ >= numFrames() || stopped(); }
