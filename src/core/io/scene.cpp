@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
+
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/mesh_reader.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
@@ -15,7 +17,12 @@ namespace chs {
 
 namespace {
 
+// The checked YAML reading is shared with simulation scenes (scene_yaml.h).
 using Section = YamlSection;
+
+[[noreturn]] void fail(const std::string& key, const std::string& what) {
+  failKey(key, what);
+}
 
 QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
   Section g(node, "garment");
@@ -28,9 +35,9 @@ QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
     r.done();
     g.done();
     for (int i = 0; i < 2; ++i) {
-      if (!(size[i] > 0.0)) failKey("garment.rectangle.size", "must be positive");
+      if (!(size[i] > 0.0)) fail("garment.rectangle.size", "must be positive");
       if (cells[i] < 1 || cells[i] != std::floor(cells[i]) || cells[i] > 1e5)
-        failKey("garment.rectangle.cells", "must be positive integers");
+        fail("garment.rectangle.cells", "must be positive integers");
     }
     return makeRectangleMesh(size[0], size[1], static_cast<int>(cells[0]),
                              static_cast<int>(cells[1]), centre);
@@ -39,7 +46,7 @@ QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
     Section d(g.get(kind), "garment.disc");
     const double radius = d.positive("radius");
     const int cells = d.integer("cells", 0, 3);
-    if (!d.has("cells")) failKey("garment.disc.cells", "missing");
+    if (!d.has("cells")) fail("garment.disc.cells", "missing");
     const Eigen::Vector3d centre = d.vector3("centre", Eigen::Vector3d::Zero());
     d.done();
     g.done();
@@ -54,7 +61,7 @@ QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
   } else {
     Section fs(f, "garment.file");
     path = fs.text("path", "");
-    if (path.empty()) failKey("garment.file.path", "missing");
+    if (path.empty()) fail("garment.file.path", "missing");
     scale = fs.positive("scale", 1.0);
     translate = fs.vector3("translate", translate);
     fs.done();
@@ -70,15 +77,15 @@ QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
 // Edge rounding of tables, boxes and pedestals (m): optional key edge_radius.
 double edgeRadius(Section& s, double fallback) {
   const double r = s.number("edge_radius", fallback);
-  if (!(r >= 0.0)) failKey(s.key("edge_radius"), "must not be negative (m)");
+  if (!(r >= 0.0)) fail(s.key("edge_radius"), "must not be negative (m)");
   return r;
 }
 
 ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
   if (!node.IsMap() || node.size() != 1)
-    failKey(key,
-            "a collider is a mapping with one key: plane, table, box, pedestal, cylinder or "
-            "sphere");
+    fail(key,
+         "a collider is a mapping with one key: plane, table, box, pedestal, cylinder or "
+         "sphere");
   Section outer(node, key);
   const std::string kind =
       kindOf(outer, {"plane", "table", "box", "pedestal", "cylinder", "sphere"}, "collider");
@@ -89,13 +96,13 @@ ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
     c.type = ColliderSpec::Type::kPlane;
     c.point = s.vector3("point", Eigen::Vector3d::Zero());
     c.normal = s.vector3("normal", Eigen::Vector3d::UnitZ());
-    if (!(c.normal.norm() > 0.0)) failKey(s.key("normal"), "must not be zero");
+    if (!(c.normal.norm() > 0.0)) fail(s.key("normal"), "must not be zero");
   } else if (kind == "table") {  // a box given by its top face, which carries the cloth
     c.type = ColliderSpec::Type::kBox;
     const Eigen::Vector3d top = s.vector3("top_centre", Eigen::Vector3d::Zero());
     const Eigen::Vector2d size = s.vector("size", 2);
     const double depth = s.positive("depth", 0.5);
-    if (!(size.minCoeff() > 0.0)) failKey(s.key("size"), "must be positive");
+    if (!(size.minCoeff() > 0.0)) fail(s.key("size"), "must be positive");
     c.lo = top - Eigen::Vector3d(size.x() / 2, size.y() / 2, depth);
     c.hi = top + Eigen::Vector3d(size.x() / 2, size.y() / 2, 0.0);
     // Real table edges are rounded; a sharp one lets node contact push cloth off sideways.
@@ -104,8 +111,7 @@ ColliderSpec parseCollider(const YAML::Node& node, const std::string& key) {
     c.type = ColliderSpec::Type::kBox;
     c.lo = s.vector("min", 3);
     c.hi = s.vector("max", 3);
-    if ((c.hi.array() <= c.lo.array()).any())
-      failKey(s.key("max"), "must exceed min in x, y and z");
+    if ((c.hi.array() <= c.lo.array()).any()) fail(s.key("max"), "must exceed min in x, y and z");
     c.edge_radius = edgeRadius(s, 0.0);
   } else if (kind == "pedestal" || kind == "cylinder") {  // vertical, given by its top face
     c.type = ColliderSpec::Type::kCylinder;
@@ -132,7 +138,7 @@ BoundaryConditions parseBoundary(const YAML::Node& node, const QuadMesh& mesh) {
   if (s.has("pinned")) bc.pinned = selectVertices(s.get("pinned"), "boundary.pinned", mesh);
   auto list = [&](const std::string& k) {
     YAML::Node n = s.get(k);
-    if (n && !n.IsSequence()) failKey(s.key(k), "must be a list");
+    if (n && !n.IsSequence()) fail(s.key(k), "must be a list");
     return n;
   };
   if (YAML::Node fixed = list("fixed")) {
@@ -141,12 +147,11 @@ BoundaryConditions parseBoundary(const YAML::Node& node, const QuadMesh& mesh) {
       Section f(fixed[i], key);
       const auto verts = selectVertices(f.require("vertices"), f.key("vertices"), mesh);
       const YAML::Node axes = f.require("axes");
-      if (!axes.IsSequence() || axes.size() == 0)
-        failKey(f.key("axes"), "must be a list of x, y, z");
+      if (!axes.IsSequence() || axes.size() == 0) fail(f.key("axes"), "must be a list of x, y, z");
       for (const auto& a : axes) {
         const std::string name = a.IsScalar() ? a.Scalar() : "";
         const int axis = name == "x" ? 0 : name == "y" ? 1 : name == "z" ? 2 : -1;
-        if (axis < 0) failKey(f.key("axes"), "must name x, y or z, got '" + name + "'");
+        if (axis < 0) fail(f.key("axes"), "must name x, y or z, got '" + name + "'");
         for (int v : verts) bc.fixed_components.push_back({v, axis});
       }
       f.done();
@@ -183,18 +188,18 @@ FemShellSettings parseFemShell(const YAML::Node& node) {
   f.max_cutbacks = s.integer("max_cutbacks", f.max_cutbacks, 0);
   f.contact_stiffness = s.number("contact_stiffness", f.contact_stiffness);
   if (f.contact_stiffness < 0.0)
-    failKey(s.key("contact_stiffness"), "must not be negative (0 picks one)");
+    fail(s.key("contact_stiffness"), "must not be negative (0 picks one)");
   f.arc_length = s.boolean("arc_length", f.arc_length);
   f.stabilization = s.number("stabilization", f.stabilization);
-  if (f.stabilization < 0.0) failKey(s.key("stabilization"), "must not be negative (0 = off)");
+  if (f.stabilization < 0.0) fail(s.key("stabilization"), "must not be negative (0 = off)");
   f.max_settling_steps = s.integer("max_settling_steps", f.max_settling_steps, 0);
   f.imperfection = s.number("imperfection", f.imperfection);
-  if (f.imperfection < 0.0) failKey(s.key("imperfection"), "must not be negative (m)");
+  if (f.imperfection < 0.0) fail(s.key("imperfection"), "must not be negative (m)");
   f.imperfection_seed = static_cast<unsigned>(s.integer("imperfection_seed", 1, 0));
   s.done();
-  if (f.tolerance >= 1.0) failKey(s.key("tolerance"), "must be below 1 (a relative residual)");
+  if (f.tolerance >= 1.0) fail(s.key("tolerance"), "must be below 1 (a relative residual)");
   if (f.initial_load_increment > f.max_load_increment)
-    failKey(s.key("initial_load_increment"), "must not exceed max_load_increment");
+    fail(s.key("initial_load_increment"), "must not exceed max_load_increment");
   return f;
 }
 
@@ -205,13 +210,13 @@ ParticleSettings parseParticle(const YAML::Node& node) {
   p.network.shear_compression = s.positive("shear_compression", p.network.shear_compression);
   auto nonNegative = [&](const char* k, double fallback) {
     const double x = s.number(k, fallback);
-    if (x < 0.0) failKey(s.key(k), "must not be negative (0 picks a default)");
+    if (x < 0.0) fail(s.key(k), "must not be negative (0 picks a default)");
     return x;
   };
   p.c_disp = nonNegative("c_disp", p.c_disp);
   p.c_acc = nonNegative("c_acc", p.c_acc);
   p.momentum = s.number("momentum", p.momentum);
-  if (!(p.momentum >= 0.0 && p.momentum < 1.0)) failKey(s.key("momentum"), "must lie in [0, 1)");
+  if (!(p.momentum >= 0.0 && p.momentum < 1.0)) fail(s.key("momentum"), "must lie in [0, 1)");
   p.restart = s.boolean("restart", p.restart);
   p.displacement_tolerance = s.positive("displacement_tolerance", p.displacement_tolerance);
   p.force_tolerance = s.positive("force_tolerance", p.force_tolerance);
@@ -236,22 +241,22 @@ SceneOutput parseOutput(const YAML::Node& node, SceneOutput out) {
   s.done();
   for (const auto* f :
        {&out.directory, &out.obj, &out.ply, &out.report, &out.convergence, &out.picture})
-    if (f->empty()) failKey("output", "file names must not be empty");
+    if (f->empty()) fail("output", "file names must not be empty");
   return out;
 }
 
 Scene parse(const YAML::Node& root, const std::string& base_dir, const std::string& name) {
-  if (!root || root.IsNull()) failKey("scene", "is empty");
+  if (!root || root.IsNull()) fail("scene", "is empty");
   Section s(root, "");
   Scene scene;
   scene.name = s.text("name", name);
-  if (scene.name.empty()) failKey("name", "must not be empty");
+  if (scene.name.empty()) fail("name", "must not be empty");
   scene.method = parseMethod(s.text("method", "fem_shell"));
   scene.problem.gravity = s.vector3("gravity", scene.problem.gravity);
   scene.problem.mesh = parseGarment(s.require("garment"), base_dir);
   scene.problem.material = parseMaterial(s.require("material"), "material", scene.material_name);
   if (YAML::Node colliders = s.get("colliders")) {
-    if (!colliders.IsSequence()) failKey("colliders", "must be a list");
+    if (!colliders.IsSequence()) fail("colliders", "must be a list");
     for (std::size_t i = 0; i < colliders.size(); ++i) {
       scene.colliders.push_back(
           parseCollider(colliders[i], "colliders[" + std::to_string(i) + "]"));
