@@ -14,7 +14,7 @@ void failKey(const std::string& key, const std::string& what) {
   throw InputError(key + ": " + what);
 }
 
-std::string numberText(double x) {
+std::string str(double x) {
   std::ostringstream s;
   s << x;
   return s.str();
@@ -55,7 +55,7 @@ double YamlSection::number(const std::string& k, std::optional<double> fallback)
 
 double YamlSection::positive(const std::string& k, std::optional<double> fallback) {
   const double x = number(k, fallback);
-  if (!(x > 0.0)) failKey(key(k), "must be positive, got " + numberText(x));
+  if (!(x > 0.0)) failKey(key(k), "must be positive, got " + str(x));
   return x;
 }
 
@@ -192,15 +192,13 @@ ShellMaterial parseMaterial(const YAML::Node& node, const std::string& key, std:
     modified = true;
   }
   s.done();
-  if (!(m.young > 0.0))
-    failKey(s.key("young"), "must be positive (Pa), got " + numberText(m.young));
+  if (!(m.young > 0.0)) failKey(s.key("young"), "must be positive (Pa), got " + str(m.young));
   if (!(m.poisson >= 0.0 && m.poisson < 0.5))
-    failKey(s.key("poisson"), "must lie in [0, 0.5), got " + numberText(m.poisson));
+    failKey(s.key("poisson"), "must lie in [0, 0.5), got " + str(m.poisson));
   if (!(m.thickness > 0.0))
-    failKey(s.key("thickness"), "must be positive (m), got " + numberText(m.thickness));
+    failKey(s.key("thickness"), "must be positive (m), got " + str(m.thickness));
   if (!(m.areal_density >= 0.0))
-    failKey(s.key("areal_density"),
-            "must not be negative (kg/m^2), got " + numberText(m.areal_density));
+    failKey(s.key("areal_density"), "must not be negative (kg/m^2), got " + str(m.areal_density));
   if (!(m.shear_correction > 0.0)) failKey(s.key("shear_correction"), "must be positive");
   if (has_preset && modified) name += " (modified)";
   return m;

@@ -18,7 +18,8 @@ namespace chs {
 
 // Throws InputError("key: what").
 [[noreturn]] void failKey(const std::string& key, const std::string& what);
-std::string numberText(double x);
+// A number as messages show it (shortest form).
+std::string str(double x);
 
 // A YAML mapping whose keys must all be read: whatever is left over is an unknown key.
 class YamlSection {
