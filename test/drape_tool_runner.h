@@ -1,6 +1,6 @@
 #pragma once
-// Runs the drape executable (path from the CHS_DRAPE_EXE compile definition) for the tests of
-// its command-line contract.
+// Runs the drape and simulate executables (paths from the CHS_DRAPE_EXE and CHS_SIMULATE_EXE
+// compile definitions) for the tests of their command-line contracts.
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -14,17 +14,24 @@ struct ToolRun {
   std::string output;  // stdout and stderr
 };
 
-inline ToolRun drape(const std::string& args) {
+inline ToolRun runTool(const std::string& exe, const std::string& name, const std::string& args) {
   ToolRun r;
-  const std::string cmd = std::string("'") + CHS_DRAPE_EXE + "' " + args + " 2>&1";
+  const std::string cmd = "'" + exe + "' " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;
   char buf[4096];
   while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
   const int raw = pclose(pipe);
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::cout << "  drape " << args << " -> " << r.status << ": " << r.output;
+  std::cout << "  " << name << " " << args << " -> " << r.status << ": " << r.output;
   return r;
+}
+
+inline ToolRun drape(const std::string& args) {
+  return runTool(CHS_DRAPE_EXE, "drape", args);
+}
+inline ToolRun simulate(const std::string& args) {
+  return runTool(CHS_SIMULATE_EXE, "simulate", args);
 }
 
 }  // namespace chs::testing

@@ -4,163 +4,26 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <optional>
-#include <set>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
-#include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/io/mesh_reader.h"
 #include "cloth_hair_sim/core/io/triangle_mesh_reader.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
-#include "cloth_hair_sim/core/mesh/vertex_selection.h"
+#include "scene_yaml.h"
 
 namespace chs {
 
 namespace {
 
+// The checked YAML reading is shared with simulation scenes (scene_yaml.h).
+using Section = YamlSection;
+
 [[noreturn]] void fail(const std::string& key, const std::string& what) {
-  throw InputError(key + ": " + what);
-}
-
-std::string str(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-std::string join(const std::string& path, const std::string& key) {
-  return path.empty() ? key : path + "." + key;
-}
-
-// A YAML mapping whose keys must all be read: whatever is left over is an unknown key.
-class Section {
- public:
-  Section(const YAML::Node& node, std::string path) : node_(node), path_(std::move(path)) {
-    if (!node_.IsMap()) fail(path_.empty() ? "scene" : path_, "must be a mapping of keys");
-  }
-
-  bool has(const std::string& key) const { return static_cast<bool>(node_[key]); }
-  const std::string& path() const { return path_; }
-  std::string firstKey() const {
-    return node_.size() > 0 ? node_.begin()->first.as<std::string>() : std::string();
-  }
-  std::string key(const std::string& k) const { return join(path_, k); }
-
-  YAML::Node get(const std::string& k) {
-    used_.insert(k);
-    return node_[k];
-  }
-  YAML::Node require(const std::string& k) {
-    YAML::Node n = get(k);
-    if (!n) fail(key(k), "missing");
-    return n;
-  }
-
-  double number(const std::string& k, std::optional<double> fallback = std::nullopt) {
-    YAML::Node n = get(k);
-    if (!n) {
-      if (!fallback) fail(key(k), "missing");
-      return *fallback;
-    }
-    return toNumber(n, key(k));
-  }
-  double positive(const std::string& k, std::optional<double> fallback = std::nullopt) {
-    const double x = number(k, fallback);
-    if (!(x > 0.0)) fail(key(k), "must be positive, got " + str(x));
-    return x;
-  }
-  int integer(const std::string& k, int fallback, int minimum) {
-    YAML::Node n = get(k);
-    if (!n) return fallback;
-    int x = 0;
-    try {
-      x = n.as<int>();
-    } catch (const YAML::Exception&) {
-      fail(key(k), "must be an integer, got '" + scalarText(n) + "'");
-    }
-    if (x < minimum) fail(key(k), "must be at least " + std::to_string(minimum));
-    return x;
-  }
-  bool boolean(const std::string& k, bool fallback) {
-    YAML::Node n = get(k);
-    if (!n) return fallback;
-    try {
-      return n.as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(key(k), "must be true or false, got '" + scalarText(n) + "'");
-    }
-  }
-  std::string text(const std::string& k, const std::string& fallback) {
-    YAML::Node n = get(k);
-    if (!n) return fallback;
-    if (!n.IsScalar()) fail(key(k), "must be a string");
-    return n.as<std::string>();
-  }
-  Eigen::VectorXd vector(const std::string& k, int size) {
-    return toVector(require(k), key(k), size);
-  }
-  Eigen::Vector3d vector3(const std::string& k, const Eigen::Vector3d& fallback) {
-    if (!has(k)) return fallback;
-    return vector(k, 3);
-  }
-
-  // Throws for the first key nobody asked for.
-  void done() const {
-    for (const auto& kv : node_) {
-      const std::string k = kv.first.as<std::string>();
-      if (!used_.count(k)) fail(key(k), "unknown key");
-    }
-  }
-
-  static std::string scalarText(const YAML::Node& n) {
-    return n.IsScalar() ? n.Scalar() : std::string("<not a scalar>");
-  }
-  static double toNumber(const YAML::Node& n, const std::string& key) {
-    double x = 0.0;
-    try {
-      if (!n.IsScalar()) throw YAML::Exception(YAML::Mark(), "");
-      x = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(key, "must be a number, got '" + scalarText(n) + "'");
-    }
-    if (!std::isfinite(x)) fail(key, "must be finite");
-    return x;
-  }
-  static Eigen::VectorXd toVector(const YAML::Node& n, const std::string& key, int size) {
-    if (!n.IsSequence() || static_cast<int>(n.size()) != size)
-      fail(key, "must be a list of " + std::to_string(size) + " numbers");
-    Eigen::VectorXd v(size);
-    for (int i = 0; i < size; ++i) v[i] = toNumber(n[i], key + "[" + std::to_string(i) + "]");
-    return v;
-  }
-
- private:
-  YAML::Node node_;
-  std::string path_;
-  std::set<std::string> used_;
-};
-
-// Exactly one of the given keys must be present: the kind of a garment, collider or selector.
-std::string kindOf(const Section& s, const std::vector<std::string>& kinds,
-                   const std::string& what) {
-  std::string found, list;
-  for (const auto& k : kinds) {
-    list += (list.empty() ? "" : ", ") + k;
-    if (s.has(k)) {
-      if (!found.empty()) fail(s.key(k), "a " + what + " has one kind only (also " + found + ")");
-      found = k;
-    }
-  }
-  if (found.empty()) {
-    const std::string other = s.firstKey();
-    if (!other.empty()) fail(s.key(other), "unknown " + what + " kind (known: " + list + ")");
-    fail(s.path(), "a " + what + " needs one of: " + list);
-  }
-  return found;
+  failKey(key, what);
 }
 
 QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
@@ -211,62 +74,6 @@ QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
       readQuadMesh(p.is_absolute() ? path : (std::filesystem::path(base_dir) / p).string(), scale);
   for (auto& v : mesh.vertices) v += translate;
   return mesh;
-}
-
-ShellMaterial parseMaterial(const YAML::Node& node, std::string& name) {
-  auto preset = [&](const std::string& n, const std::string& key) {
-    auto m = materialPreset(n);
-    if (!m) {
-      std::string names;
-      for (const auto& p : materialPresetNames()) names += (names.empty() ? "" : ", ") + p;
-      fail(key, "unknown material preset '" + n + "' (known: " + names + ")");
-    }
-    return *m;
-  };
-  if (node.IsScalar()) {
-    name = node.as<std::string>();
-    return preset(name, "material");
-  }
-  Section s(node, "material");
-  ShellMaterial m;
-  const bool has_preset = s.has("preset");
-  if (has_preset) {
-    name = s.text("preset", "");
-    m = preset(name, "material.preset");
-  } else {
-    name = "custom";
-  }
-  bool modified = false;
-  auto value = [&](const char* key, double& field) {
-    if (!s.has(key)) {
-      if (!has_preset) fail(s.key(key), "missing (no preset to take it from)");
-      return;
-    }
-    field = s.number(key);
-    modified = true;
-  };
-  value("young", m.young);
-  value("poisson", m.poisson);
-  value("thickness", m.thickness);
-  value("areal_density", m.areal_density);
-  if (s.has("shear_correction")) m.shear_correction = s.number("shear_correction"), modified = true;
-  if (s.has("bending_rigidity")) {  // D in N m: sets E for the given thickness and nu
-    if (s.has("young")) fail(s.key("bending_rigidity"), "give either young or bending_rigidity");
-    const double d = s.positive("bending_rigidity");
-    m.young = 12.0 * (1.0 - m.poisson * m.poisson) * d / std::pow(m.thickness, 3);
-    modified = true;
-  }
-  s.done();
-  if (!(m.young > 0.0)) fail(s.key("young"), "must be positive (Pa), got " + str(m.young));
-  if (!(m.poisson >= 0.0 && m.poisson < 0.5))
-    fail(s.key("poisson"), "must lie in [0, 0.5), got " + str(m.poisson));
-  if (!(m.thickness > 0.0))
-    fail(s.key("thickness"), "must be positive (m), got " + str(m.thickness));
-  if (!(m.areal_density >= 0.0))
-    fail(s.key("areal_density"), "must not be negative (kg/m^2), got " + str(m.areal_density));
-  if (!(m.shear_correction > 0.0)) fail(s.key("shear_correction"), "must be positive");
-  if (has_preset && modified) name += " (modified)";
-  return m;
 }
 
 // Edge rounding of tables, boxes and pedestals (m): optional key edge_radius.
@@ -415,75 +222,11 @@ ColliderSpec parseCollider(const YAML::Node& node, const std::string& key,
   return c;
 }
 
-// A vertex selector: an index, a list of selectors, or a mapping with one of vertex, vertices,
-// nearest, plane {axis, value, tolerance}, box {min, max}, boundary: true.
-void select(const YAML::Node& node, const std::string& key, const QuadMesh& mesh,
-            std::vector<int>& out) {
-  if (node.IsScalar()) {
-    int v = -1;
-    try {
-      v = node.as<int>();
-    } catch (const YAML::Exception&) {
-      fail(key, "a vertex index must be an integer, got '" + node.Scalar() + "'");
-    }
-    if (v < 0 || v >= mesh.numVertices())
-      fail(key, "vertex " + std::to_string(v) + " is out of range (the mesh has " +
-                    std::to_string(mesh.numVertices()) + " vertices)");
-    out.push_back(v);
-    return;
-  }
-  if (node.IsSequence()) {
-    for (std::size_t i = 0; i < node.size(); ++i)
-      select(node[i], key + "[" + std::to_string(i) + "]", mesh, out);
-    return;
-  }
-  Section s(node, key);
-  const std::string kind =
-      kindOf(s, {"vertex", "vertices", "nearest", "plane", "box", "boundary"}, "vertex selector");
-  const std::size_t before = out.size();
-  if (kind == "vertex" || kind == "vertices") {
-    select(s.get(kind), s.key(kind), mesh, out);
-  } else if (kind == "nearest") {
-    out.push_back(nearestVertex(mesh, s.vector("nearest", 3)));
-  } else if (kind == "plane") {
-    Section p(s.get(kind), s.key(kind));
-    const std::string axis = p.text("axis", "");
-    const int a = axis == "x" ? 0 : axis == "y" ? 1 : axis == "z" ? 2 : -1;
-    if (a < 0) fail(p.key("axis"), "must be x, y or z");
-    const double value = p.number("value");
-    const double tol = p.number("tolerance", 1e-6);
-    if (tol < 0.0) fail(p.key("tolerance"), "must not be negative");
-    p.done();
-    const auto v = verticesOnPlane(mesh, a, value, tol);
-    out.insert(out.end(), v.begin(), v.end());
-  } else if (kind == "box") {
-    Section b(s.get(kind), s.key(kind));
-    const auto v = verticesInBox(mesh, b.vector("min", 3), b.vector("max", 3));
-    b.done();
-    out.insert(out.end(), v.begin(), v.end());
-  } else {
-    if (!s.boolean("boundary", false)) fail(s.key("boundary"), "only 'boundary: true' selects");
-    const auto v = boundaryVertices(mesh);
-    out.insert(out.end(), v.begin(), v.end());
-  }
-  s.done();
-  if (out.size() == before) fail(key, "selects no vertex");
-}
-
-std::vector<int> selectUnique(const YAML::Node& node, const std::string& key,
-                              const QuadMesh& mesh) {
-  std::vector<int> v;
-  select(node, key, mesh, v);
-  std::sort(v.begin(), v.end());
-  v.erase(std::unique(v.begin(), v.end()), v.end());
-  return v;
-}
-
 BoundaryConditions parseBoundary(const YAML::Node& node, const QuadMesh& mesh) {
   Section s(node, "boundary");
   BoundaryConditions bc;
-  if (s.has("clamped")) bc.clamped = selectUnique(s.get("clamped"), "boundary.clamped", mesh);
-  if (s.has("pinned")) bc.pinned = selectUnique(s.get("pinned"), "boundary.pinned", mesh);
+  if (s.has("clamped")) bc.clamped = selectVertices(s.get("clamped"), "boundary.clamped", mesh);
+  if (s.has("pinned")) bc.pinned = selectVertices(s.get("pinned"), "boundary.pinned", mesh);
   auto list = [&](const std::string& k) {
     YAML::Node n = s.get(k);
     if (n && !n.IsSequence()) fail(s.key(k), "must be a list");
@@ -493,7 +236,7 @@ BoundaryConditions parseBoundary(const YAML::Node& node, const QuadMesh& mesh) {
     for (std::size_t i = 0; i < fixed.size(); ++i) {
       const std::string key = "boundary.fixed[" + std::to_string(i) + "]";
       Section f(fixed[i], key);
-      const auto verts = selectUnique(f.require("vertices"), f.key("vertices"), mesh);
+      const auto verts = selectVertices(f.require("vertices"), f.key("vertices"), mesh);
       const YAML::Node axes = f.require("axes");
       if (!axes.IsSequence() || axes.size() == 0) fail(f.key("axes"), "must be a list of x, y, z");
       for (const auto& a : axes) {
@@ -509,7 +252,7 @@ BoundaryConditions parseBoundary(const YAML::Node& node, const QuadMesh& mesh) {
     for (std::size_t i = 0; i < loads.size(); ++i) {
       const std::string key = "boundary.loads[" + std::to_string(i) + "]";
       Section l(loads[i], key);
-      const auto verts = selectUnique(l.require("vertices"), l.key("vertices"), mesh);
+      const auto verts = selectVertices(l.require("vertices"), l.key("vertices"), mesh);
       NodalLoad load;
       load.force = l.vector3("force", Eigen::Vector3d::Zero());
       load.moment = l.vector3("moment", Eigen::Vector3d::Zero());
@@ -602,7 +345,7 @@ Scene parse(const YAML::Node& root, const std::string& base_dir, const std::stri
   scene.method = parseMethod(s.text("method", "fem_shell"));
   scene.problem.gravity = s.vector3("gravity", scene.problem.gravity);
   scene.problem.mesh = parseGarment(s.require("garment"), base_dir);
-  scene.problem.material = parseMaterial(s.require("material"), scene.material_name);
+  scene.problem.material = parseMaterial(s.require("material"), "material", scene.material_name);
   if (YAML::Node colliders = s.get("colliders")) {
     if (!colliders.IsSequence()) fail("colliders", "must be a list");
     for (std::size_t i = 0; i < colliders.size(); ++i) {

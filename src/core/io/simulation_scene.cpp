@@ -1,0 +1,333 @@
+#include "cloth_hair_sim/core/io/simulation_scene.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/common/names.h"
+#include "cloth_hair_sim/core/io/mesh_reader.h"
+#include "cloth_hair_sim/core/mesh/grid_generators.h"
+#include "scene_yaml.h"
+
+namespace chs {
+
+namespace {
+
+std::string indexed(const std::string& key, std::size_t i) {
+  return key + "[" + std::to_string(i) + "]";
+}
+
+std::string resolve(const std::string& path, const std::string& base_dir, const std::string& key) {
+  if (path.empty()) failKey(key, "missing");
+  const std::filesystem::path p(path);
+  const std::string full = p.is_absolute() ? path : (std::filesystem::path(base_dir) / p).string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(full, ec)) failKey(key, "no such file: " + full);
+  return full;
+}
+
+// The one key of `kinds` that s has (its other keys are checked by done(): a misspelt kind is
+// then an unknown key, wherever it stands).
+std::string presentKind(const YamlSection& s, const std::vector<std::string>& kinds,
+                        const std::string& what) {
+  std::string found, list;
+  for (const auto& k : kinds) {
+    list += (list.empty() ? "" : ", ") + k;
+    if (!s.has(k)) continue;
+    if (!found.empty()) failKey(s.key(k), "a " + what + " has one kind only (also " + found + ")");
+    found = k;
+  }
+  if (found.empty()) failKey(s.path(), "needs one of: " + list);
+  return found;
+}
+
+// position and rotation (roll, pitch, yaw about the fixed x, y, z axes, as URDF) of a frame.
+Eigen::Isometry3d parsePose(YamlSection& s) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = s.vector3("position", Eigen::Vector3d::Zero());
+  const Eigen::Vector3d rpy = s.vector3("rotation", Eigen::Vector3d::Zero());
+  pose.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+                   Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                   Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+                      .toRotationMatrix();
+  return pose;
+}
+
+std::string parseName(YamlSection& s, const std::string& fallback, std::set<std::string>& taken) {
+  const std::string name = s.text("name", fallback);
+  try {
+    checkName(name);
+  } catch (const InputError& e) {
+    failKey(s.key("name"), e.what());
+  }
+  if (!taken.insert(name).second) failKey(s.key("name"), "'" + name + "' is used twice");
+  return name;
+}
+
+QuadMesh parseGeometry(YamlSection& b, const std::string& base_dir) {
+  const std::string kind = presentKind(b, {"rectangle", "mesh"}, "body geometry");
+  if (kind == "rectangle") {
+    YamlSection r(b.get(kind), b.key(kind));
+    const Eigen::Vector2d size = r.vector("size", 2);
+    const Eigen::VectorXd cells = r.vector("cells", 2);
+    const Eigen::Vector3d centre = r.vector3("centre", Eigen::Vector3d::Zero());
+    r.done();
+    if (!(size.minCoeff() > 0.0)) failKey(r.key("size"), "must be positive (m)");
+    for (int i = 0; i < 2; ++i)
+      if (cells[i] < 1 || cells[i] != std::floor(cells[i]) || cells[i] > 1e4)
+        failKey(r.key("cells"), "must be positive integers");
+    return makeRectangleMesh(size[0], size[1], static_cast<int>(cells[0]),
+                             static_cast<int>(cells[1]), centre);
+  }
+  const YAML::Node m = b.get(kind);
+  std::string file;
+  double scale = 1.0;
+  std::string key = b.key(kind);
+  if (m.IsScalar()) {
+    file = m.as<std::string>();
+  } else {
+    YamlSection ms(m, key);
+    file = ms.text("file", "");
+    key = ms.key("file");
+    scale = ms.positive("scale", 1.0);
+    ms.done();
+  }
+  const std::string path = resolve(file, base_dir, key);
+  try {
+    return readQuadMesh(path, scale);
+  } catch (const InputError& e) {
+    failKey(key, e.what());
+  }
+}
+
+SimulationBody parseBody(const YAML::Node& node, const std::string& key,
+                         const std::string& fallback_name, const std::string& base_dir,
+                         const Eigen::Vector3d& gravity, std::set<std::string>& names) {
+  YamlSection b(node, key);
+  SimulationBody body;
+  body.name = parseName(b, fallback_name, names);
+  QuadMesh mesh = parseGeometry(b, base_dir);
+  const Eigen::Isometry3d pose = parsePose(b);
+  for (auto& v : mesh.vertices) v = pose * v;
+  body.problem.mesh = std::move(mesh);
+  body.problem.material =
+      parseMaterial(b.require("material"), b.key("material"), body.material_name);
+  body.problem.gravity = gravity;
+  if (b.has("pins"))
+    body.problem.bc.pinned = selectVertices(b.get("pins"), b.key("pins"), body.problem.mesh);
+  body.velocity = b.vector3("velocity", Eigen::Vector3d::Zero());
+  b.done();
+  try {
+    body.problem.validate();
+  } catch (const InputError& e) {
+    failKey(key, e.what());
+  }
+  return body;
+}
+
+const std::vector<std::string> kColliderKinds = {"plane",    "sphere",  "box", "table",
+                                                 "cylinder", "capsule", "mesh"};
+
+ColliderShape parseShape(YamlSection& c, const std::string& kind, const std::string& base_dir) {
+  ColliderShape shape;
+  YamlSection s(c.get(kind), c.key(kind));
+  auto edge = [&] {
+    shape.edge_radius = s.number("edge_radius", -1.0);
+    if (s.has("edge_radius") && shape.edge_radius < 0.0)
+      failKey(s.key("edge_radius"), "must not be negative (m)");
+  };
+  if (kind == "plane") {
+    shape.type = ColliderShape::Type::kPlane;
+  } else if (kind == "sphere") {
+    shape.type = ColliderShape::Type::kSphere;
+    shape.dimensions = {s.positive("radius")};
+  } else if (kind == "box" || kind == "table") {
+    shape.type = ColliderShape::Type::kBox;
+    if (kind == "box") {
+      const Eigen::Vector3d size = s.vector("size", 3);
+      if (!(size.minCoeff() > 0.0)) failKey(s.key("size"), "must be positive (m)");
+      shape.dimensions = {size.x(), size.y(), size.z()};
+    } else {
+      const Eigen::Vector2d size = s.vector("size", 2);
+      if (!(size.minCoeff() > 0.0)) failKey(s.key("size"), "must be positive (m)");
+      const double depth = s.positive("depth", 0.5);
+      shape.dimensions = {size.x(), size.y(), depth};
+      shape.offset.translation() = Eigen::Vector3d(0.0, 0.0, -0.5 * depth);
+    }
+    edge();
+  } else if (kind == "cylinder" || kind == "capsule") {
+    shape.type =
+        kind == "cylinder" ? ColliderShape::Type::kCylinder : ColliderShape::Type::kCapsule;
+    shape.dimensions = {s.positive("radius"), s.positive("length")};
+    if (kind == "cylinder") edge();
+  } else {
+    shape.type = ColliderShape::Type::kMesh;
+    shape.mesh_file = resolve(s.text("file", ""), base_dir, s.key("file"));
+    shape.mesh_scale = Eigen::Vector3d::Constant(s.positive("scale", 1.0));
+    shape.mesh_resolution.voxel_size = s.number("voxel_size", 0.0);
+    if (shape.mesh_resolution.voxel_size < 0.0)
+      failKey(s.key("voxel_size"), "must not be negative (0: default)");
+  }
+  s.done();
+  try {
+    shape.validate();
+    if (shape.type == ColliderShape::Type::kMesh) shape.meshField();
+  } catch (const InputError& e) {
+    failKey(c.key(kind), e.what());
+  }
+  return shape;
+}
+
+ScriptedMotion parseMotion(const YAML::Node& node, const std::string& key) {
+  YamlSection m(node, key);
+  ScriptedMotion motion;
+  if (m.has("keyframes")) {
+    if (m.has("linear_velocity") || m.has("angular_velocity"))
+      failKey(m.key("keyframes"), "give either keyframes or velocities");
+    const YAML::Node list = m.get("keyframes");
+    if (!list.IsSequence() || list.size() < 2)
+      failKey(m.key("keyframes"), "must be a list of at least two {time, position, rotation}");
+    motion.kind = ScriptedMotion::Kind::kKeyframes;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      YamlSection k(list[i], indexed(m.key("keyframes"), i));
+      ScriptedMotion::Keyframe f;
+      f.time = k.number("time");
+      if (!motion.keyframes.empty() && !(f.time > motion.keyframes.back().time))
+        failKey(k.key("time"), "must exceed the previous keyframe's time");
+      f.pose = parsePose(k);
+      k.done();
+      motion.keyframes.push_back(f);
+    }
+  } else {
+    motion.kind = ScriptedMotion::Kind::kVelocity;
+    motion.linear = m.vector3("linear_velocity", Eigen::Vector3d::Zero());
+    motion.angular = m.vector3("angular_velocity", Eigen::Vector3d::Zero());
+    if (motion.linear.isZero(0.0) && motion.angular.isZero(0.0))
+      failKey(key, "needs linear_velocity, angular_velocity or keyframes");
+  }
+  m.done();
+  return motion;
+}
+
+SimulationCollider parseCollider(const YAML::Node& node, const std::string& key, std::size_t index,
+                                 const std::string& base_dir, std::set<std::string>& names) {
+  YamlSection c(node, key);
+  SimulationCollider out;
+  const std::string kind = presentKind(c, kColliderKinds, "collider");
+  out.kind = kind;
+  out.name = parseName(c, kind + std::to_string(index), names);
+  out.shape = parseShape(c, kind, base_dir);
+  out.pose = parsePose(c);
+  out.friction = c.number("friction", out.friction);
+  if (out.friction < 0.0) failKey(c.key("friction"), "must not be negative");
+  if (c.has("motion")) out.motion = parseMotion(c.get("motion"), c.key("motion"));
+  c.done();
+  return out;
+}
+
+void parseWorld(const YAML::Node& node, SimulationScene& scene) {
+  YamlSection w(node, "world");
+  WorldSettings& ws = scene.world;
+  HybridShellSettings& sh = scene.shell;
+  ws.grid_spacing = w.number("grid_spacing", 0.0);
+  if (ws.grid_spacing < 0.0) failKey(w.key("grid_spacing"), "must not be negative (0: derived)");
+  ws.kernel_degree = w.integer("kernel_degree", ws.kernel_degree, 2);
+  if (ws.kernel_degree > 3) failKey(w.key("kernel_degree"), "must be 2 or 3");
+  ws.body_friction = w.number("body_friction", ws.body_friction);
+  if (ws.body_friction < 0.0) failKey(w.key("body_friction"), "must not be negative");
+  ws.contact_distance = w.number("contact_distance", 0.0);
+  if (ws.contact_distance < 0.0)
+    failKey(w.key("contact_distance"), "must not be negative (0: a quarter of dx)");
+  sh.damping = w.number("damping", sh.damping);
+  if (sh.damping < 0.0) failKey(w.key("damping"), "must not be negative (1/s)");
+  const std::string integration = w.text("integration", "symplectic_euler");
+  if (integration == "symplectic_euler")
+    sh.integration = TimeIntegration::kSymplecticEuler;
+  else if (integration == "backward_euler")
+    sh.integration = TimeIntegration::kBackwardEuler;
+  else
+    failKey(w.key("integration"),
+            "must be symplectic_euler or backward_euler, got '" + integration + "'");
+  sh.max_time_step = w.positive("max_time_step", sh.max_time_step);
+  sh.safety = w.positive("safety", sh.safety);
+  sh.cfl = w.positive("cfl", sh.cfl);
+  sh.display_segments = w.integer("display_segments", sh.display_segments, 1);
+  w.done();
+  sh.grid_spacing = ws.grid_spacing;
+  sh.kernel_degree = ws.kernel_degree;
+}
+
+SimulationScene parse(const YAML::Node& root, const std::string& base_dir,
+                      const std::string& name) {
+  if (!root || root.IsNull()) failKey("scene", "is empty");
+  YamlSection s(root, "");
+  SimulationScene scene;
+  scene.name = s.text("name", name);
+  if (scene.name.empty()) failKey("name", "must not be empty");
+  scene.duration = s.positive("duration", scene.duration);
+  scene.frame_rate = s.positive("frame_rate", scene.frame_rate);
+  scene.max_substeps_per_frame =
+      s.integer("max_substeps_per_frame", scene.max_substeps_per_frame, 1);
+  if (scene.numFrames() > 1000000) failKey("frame_rate", "gives more than a million frames");
+  scene.gravity = s.vector3("gravity", scene.gravity);
+  if (s.has("world")) parseWorld(s.get("world"), scene);
+  const YAML::Node bodies = s.require("bodies");
+  if (!bodies.IsSequence() || bodies.size() == 0) failKey("bodies", "must be a non-empty list");
+  std::set<std::string> body_names, collider_names;
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    scene.bodies.push_back(parseBody(bodies[i], indexed("bodies", i), "body" + std::to_string(i),
+                                     base_dir, scene.gravity, body_names));
+  if (YAML::Node colliders = s.get("colliders")) {
+    if (!colliders.IsSequence()) failKey("colliders", "must be a list");
+    for (std::size_t i = 0; i < colliders.size(); ++i)
+      scene.colliders.push_back(
+          parseCollider(colliders[i], indexed("colliders", i), i, base_dir, collider_names));
+  }
+  s.done();
+  return scene;
+}
+
+}  // namespace
+
+int SimulationScene::numFrames() const {
+  return static_cast<int>(std::ceil(duration * frame_rate - 1e-9));
+}
+
+SimulationScene parseSimulationScene(const std::string& yaml_text, const std::string& base_dir,
+                                     const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError("scene: not valid YAML: " + e.msg + " at line " +
+                     std::to_string(e.mark.line + 1));
+  }
+  try {
+    return parse(root, base_dir, name);
+  } catch (const YAML::Exception& e) {  // a shape the checks above did not foresee
+    throw InputError("scene: " + e.msg + " at line " + std::to_string(e.mark.line + 1));
+  }
+}
+
+SimulationScene loadSimulationScene(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such scene file");
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) throw InputError(path + ": cannot read scene file");
+  const std::filesystem::path p(path);
+  try {
+    SimulationScene scene =
+        parseSimulationScene(text.str(), p.parent_path().string(), p.stem().string());
+    scene.file = path;
+    return scene;
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+}
+
+}  // namespace chs
