@@ -485,12 +485,20 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
       h = target / n;
     }
   }
+  // No more substeps than fit in max_update_wall at the last update's cost: the update holds
+  // mutex_, and a service call waiting for it (load_garment, list_garments, grasp) would
+  // otherwise wait for max_substeps of a slow world, seconds. The kinematic inputs still reach
+  // their current pose over the substeps taken: the simulation falls behind, it does not jerk.
+  // A cost not known yet (the first update, a garment just loaded) is probed with one substep.
+  n = substep_cost_ > 0.0
+          ? std::max(1, std::min(n, static_cast<int>(params_.max_update_wall / substep_cost_)))
+          : 1;
   const Clock::time_point start = Clock::now();
   advance(n, h);
   const double wall = secondsSince(start);
   last_.dt = h;
   last_.substeps = n;
-  last_.wall_per_step = wall / n;
+  last_.wall_per_step = substep_cost_ = wall / n;
   last_.real_time_factor = n * h / std::max(elapsed, wall);
   publishGraspWrenches(n * h);
   publishColliderWrenches();
@@ -640,6 +648,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     res.message = who + "loaded, " + std::to_string(res.vertices) + " vertices, " +
                   std::to_string(res.faces) + " quads, material " + g.material_name;
     garments_.emplace(req.name, std::move(g));
+    substep_cost_ = 0.0;  // the world grew: the next update probes its cost
   } catch (const std::exception& e) {
     res.message = who + e.what();
   }

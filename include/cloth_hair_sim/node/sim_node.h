@@ -164,6 +164,7 @@ class SimNode {
   int rollbacks_ = 0;
   int unconverged_solves_ = 0;
   UpdateStats last_;
+  double substep_cost_ = 0.0;  // [s] wall time per substep of the last update (0: not known)
   std::atomic<bool> drape_running_{false};
   std::string drape_garment_;  // under mutex_: the garment of the running drape, and its start
   std::chrono::steady_clock::time_point drape_started_;

@@ -20,9 +20,12 @@ struct SimParams {
   double step_rate = 100.0;       // [Hz] updates per second
   double real_time_factor = 1.0;  // simulated / wall (or /clock) seconds; 0: as fast as possible
   int max_substeps = 500;         // per update; beyond it the simulation falls behind
-  double status_rate = 10.0;      // [Hz]
-  double marker_rate = 10.0;      // [Hz]
-  bool show_colliders = true;     // collider markers in the "colliders" namespace
+  // [s] an update takes no more substeps than fit in this much wall time at the last update's
+  // cost per substep: it holds the simulation's mutex, so services wait for it.
+  double max_update_wall = 0.05;
+  double status_rate = 10.0;   // [Hz]
+  double marker_rate = 10.0;   // [Hz]
+  bool show_colliders = true;  // collider markers in the "colliders" namespace
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  // [m/s^2] in the world frame
   double damping = 0.5;      // [1/s] viscous damping of either backend
   double max_speed = 50.0;   // [m/s] a faster vertex counts as a diverged step
