@@ -27,9 +27,9 @@ from collections import defaultdict
 TOOLS = {
     "Xvfb": ["scripts/demo.sh"],
     "import": ["scripts/demo.sh"],  # imagemagick's screenshot tool
-    "roslaunch": ["scripts/demo.sh"],
+    "roslaunch": ["scripts/demo.sh", "scripts/soak.py"],
     "python3": ["scripts/demo.sh"],
-    "gnuplot": ["src/core/io/gnuplot.cpp"],
+    "gnuplot": ["src/core/io/gnuplot.cpp", "scripts/soak.py"],
     "cmake": ["Makefile"],
     "ctest": ["Makefile"],
     "ccache": ["Makefile"],
