@@ -17,10 +17,10 @@
 #include <CLI/CLI.hpp>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/io/mesh_writer.h"
 #include "cloth_hair_sim/core/io/simulation_plots.h"
 #include "cloth_hair_sim/core/io/simulation_report.h"
 #include "cloth_hair_sim/core/io/simulation_scene.h"
-#include "cloth_hair_sim/core/io/surface_writer.h"
 #include "cloth_hair_sim/core/simulation/simulation_run.h"
 
 namespace {

@@ -1,5 +1,6 @@
 #include "cloth_hair_sim/core/io/mesh_writer.h"
 
+#include <array>
 #include <fstream>
 #include <iomanip>
 
@@ -9,11 +10,7 @@ namespace chs {
 
 namespace {
 
-std::ofstream openFor(const std::string& path, const QuadMesh& mesh,
-                      const std::vector<Eigen::Vector3d>& positions) {
-  if (positions.size() != mesh.vertices.size())
-    throw InputError(path + ": " + std::to_string(positions.size()) + " positions for a mesh of " +
-                     std::to_string(mesh.vertices.size()) + " vertices");
+std::ofstream open(const std::string& path) {
   std::ofstream out(path);
   if (!out) throw InputError(path + ": cannot open for writing");
   out << std::setprecision(10);
@@ -25,30 +22,68 @@ void finish(std::ofstream& out, const std::string& path) {
   if (!out) throw InputError(path + ": write failed");
 }
 
+// Vertices and faces of N corners each, kept as they are (quads stay quads).
+template <std::size_t N>
+void objFile(const std::string& path, const std::string& what,
+             const std::vector<Eigen::Vector3d>& positions,
+             const std::vector<std::array<int, N>>& faces) {
+  std::ofstream out = open(path);
+  out << "# cloth_hair_sim " << what << ": " << positions.size() << " vertices, " << faces.size()
+      << " faces\n";
+  for (const auto& p : positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  for (const auto& f : faces) {  // OBJ indices are 1-based
+    out << 'f';
+    for (int v : f) out << ' ' << v + 1;
+    out << '\n';
+  }
+  finish(out, path);
+}
+
+template <std::size_t N>
+void plyFile(const std::string& path, const std::string& what,
+             const std::vector<Eigen::Vector3d>& positions,
+             const std::vector<std::array<int, N>>& faces) {
+  std::ofstream out = open(path);
+  out << "ply\nformat ascii 1.0\ncomment cloth_hair_sim " << what << "\n"
+      << "element vertex " << positions.size() << "\nproperty double x\nproperty double y\n"
+      << "property double z\nelement face " << faces.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const auto& p : positions) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  for (const auto& f : faces) {
+    out << N;
+    for (int v : f) out << ' ' << v;
+    out << '\n';
+  }
+  finish(out, path);
+}
+
+void checkPositions(const std::string& path, const QuadMesh& mesh,
+                    const std::vector<Eigen::Vector3d>& positions) {
+  if (positions.size() != mesh.vertices.size())
+    throw InputError(path + ": " + std::to_string(positions.size()) + " positions for a mesh of " +
+                     std::to_string(mesh.vertices.size()) + " vertices");
+}
+
 }  // namespace
 
 void writeObj(const std::string& path, const QuadMesh& mesh,
               const std::vector<Eigen::Vector3d>& positions) {
-  std::ofstream out = openFor(path, mesh, positions);
-  out << "# cloth_hair_sim quad mesh: " << positions.size() << " vertices, " << mesh.numQuads()
-      << " quads\n";
-  for (const auto& p : positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  for (const auto& q : mesh.quads)  // OBJ indices are 1-based
-    out << "f " << q[0] + 1 << ' ' << q[1] + 1 << ' ' << q[2] + 1 << ' ' << q[3] + 1 << '\n';
-  finish(out, path);
+  checkPositions(path, mesh, positions);
+  objFile(path, "quad mesh", positions, mesh.quads);
 }
 
 void writePly(const std::string& path, const QuadMesh& mesh,
               const std::vector<Eigen::Vector3d>& positions) {
-  std::ofstream out = openFor(path, mesh, positions);
-  out << "ply\nformat ascii 1.0\ncomment cloth_hair_sim quad mesh\n"
-      << "element vertex " << positions.size() << "\nproperty double x\nproperty double y\n"
-      << "property double z\nelement face " << mesh.numQuads()
-      << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& p : positions) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  for (const auto& q : mesh.quads)
-    out << "4 " << q[0] << ' ' << q[1] << ' ' << q[2] << ' ' << q[3] << '\n';
-  finish(out, path);
+  checkPositions(path, mesh, positions);
+  plyFile(path, "quad mesh", positions, mesh.quads);
+}
+
+void writeSurfaceObj(const std::string& path, const DisplaySurface& surface) {
+  objFile(path, "display surface", surface.vertices, surface.triangles);
+}
+
+void writeSurfacePly(const std::string& path, const DisplaySurface& surface) {
+  plyFile(path, "display surface", surface.vertices, surface.triangles);
 }
 
 }  // namespace chs

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 #include <Eigen/Geometry>
@@ -378,30 +376,19 @@ DrapeMethod parseMethod(const std::string& name) {
 
 Scene parseScene(const std::string& yaml_text, const std::string& base_dir,
                  const std::string& name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw InputError("scene: not valid YAML: " + e.msg + " at line " +
-                     std::to_string(e.mark.line + 1));
-  }
+  const YAML::Node root = loadYaml(yaml_text);
   try {
     return parse(root, base_dir, name);
   } catch (const YAML::Exception& e) {  // a shape the checks above did not foresee
-    throw InputError("scene: " + e.msg + " at line " + std::to_string(e.mark.line + 1));
+    failYaml(e);
   }
 }
 
 Scene loadScene(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such scene file");
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(path + ": cannot read scene file");
+  const std::string text = readSceneFile(path);
   const std::filesystem::path p(path);
   try {
-    Scene scene = parseScene(text.str(), p.parent_path().string(), p.stem().string());
+    Scene scene = parseScene(text, p.parent_path().string(), p.stem().string());
     scene.file = path;
     return scene;
   } catch (const InputError& e) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "cloth_hair_sim/core/common/input_error.h"
@@ -268,6 +270,29 @@ std::vector<int> selectVertices(const YAML::Node& node, const std::string& key,
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
   return v;
+}
+
+std::string readSceneFile(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such scene file");
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) throw InputError(path + ": cannot read scene file");
+  return text.str();
+}
+
+YAML::Node loadYaml(const std::string& yaml_text) {
+  try {
+    return YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError("scene: not valid YAML: " + e.msg + " at line " +
+                     std::to_string(e.mark.line + 1));
+  }
+}
+
+void failYaml(const YAML::Exception& e) {
+  throw InputError("scene: " + e.msg + " at line " + std::to_string(e.mark.line + 1));
 }
 
 }  // namespace chs

@@ -21,6 +21,14 @@ namespace chs {
 // A number as messages show it (shortest form).
 std::string str(double x);
 
+// The text of a scene file; InputError "<path>: no such scene file" or "cannot read".
+std::string readSceneFile(const std::string& path);
+// The YAML document of a scene's text; InputError "scene: not valid YAML: ... at line N".
+YAML::Node loadYaml(const std::string& yaml_text);
+// YAML's own error while reading a document (a shape the checks did not foresee) as InputError
+// "scene: ... at line N".
+[[noreturn]] void failYaml(const YAML::Exception& e);
+
 // A YAML mapping whose keys must all be read: whatever is left over is an unknown key.
 class YamlSection {
  public:

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
 #include "cloth_hair_sim/core/mesh/quad_mesh.h"
 
 namespace chs {
@@ -22,5 +23,10 @@ inline void writeObj(const std::string& path, const QuadMesh& mesh) {
 inline void writePly(const std::string& path, const QuadMesh& mesh) {
   writePly(path, mesh, mesh.vertices);
 }
+
+// A dynamics backend's display surface (triangles) as OBJ or ASCII PLY, e.g. one file per frame
+// of a sequence. Throws InputError if the file cannot be written.
+void writeSurfaceObj(const std::string& path, const DisplaySurface& surface);
+void writeSurfacePly(const std::string& path, const DisplaySurface& surface);
 
 }  // namespace chs
