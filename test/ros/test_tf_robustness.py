@@ -181,7 +181,10 @@ class TfRobustness(unittest.TestCase):
         self.assertEqual(list(statuses[-1].grasps), ['hold'])
         self.assertAlmostEqual(b[1] - a[1], 10.0, delta=0.05)
         self.assertAlmostEqual(b[2], a[2], delta=0.05)
-        self.assertLess(energy, 0.01)
+        # Typically 3.5e-5 J; once in four clean-clone runs 0.023 J (the grasp follows its frame
+        # tf_delay in the past, where tf may still interpolate across the jump for an update or
+        # two). Swept instead of placed, the cloth was thrown (thousands of rollbacks, above).
+        self.assertLess(energy, 0.05)
 
     def test_c_frame_back_after_a_gap(self):
         before, rest = self.load_patch((0.0, 0.0, TABLE_TOP + 0.01))
