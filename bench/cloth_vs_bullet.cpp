@@ -30,6 +30,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include "bench_machine.h"
+#include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
@@ -224,7 +225,7 @@ std::vector<chs::SurfaceStencil> cornerStencils(const chs::QuadMesh& mesh,
   return s;
 }
 
-Run runHybrid(const DropScene& scene, int threads, int every) {
+Run runHybrid(const DropScene& scene, chs::TimeIntegration integration, int threads, int every) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   chs::DrapeProblem p;
   p.mesh = chs::makeRectangleMesh(scene.size, scene.size, scene.cells, scene.cells,
@@ -233,13 +234,17 @@ Run runHybrid(const DropScene& scene, int threads, int every) {
   p.colliders = {std::make_shared<chs::SphereSurface>(Vec3::Zero(), scene.radius)};
   chs::HybridShellSettings s;
   s.friction = scene.friction;
+  s.integration = integration;
+  // One step per frame where the motion allows (CFL still shortens it).
+  s.max_time_step = 1.0 / scene.fps;
   chs::HybridShellDynamics d(p, s);
 
   const std::vector<chs::SurfaceStencil> corners = cornerStencils(p.mesh, d.limitSurface());
   const GridEdges edges(scene.side(), chs::evaluate(corners, d.positions()));
 
   Run r;
-  r.name = "hybrid shell, " + std::to_string(threads) + " thread(s)";
+  r.name = "hybrid shell " + chs::timeIntegrationName(integration) + ", " +
+           std::to_string(threads) + " thread(s)";
   bool finite = true;
   for (int frame = 1; frame <= scene.frames() && finite; ++frame) {
     const double end = frame / scene.fps;
@@ -311,7 +316,18 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bool single_thread_too = false;
   app.add_flag("--single-thread-too", single_thread_too, "also run the hybrid shell on 1 thread");
+  std::vector<std::string> integrations = {"lagrangian_implicit", "symplectic_euler"};
+  app.add_option("--integration", integrations,
+                 "hybrid shell integrations to run: symplectic_euler, backward_euler, "
+                 "lagrangian_implicit");
   CLI11_PARSE(app, argc, argv);
+  std::vector<chs::TimeIntegration> hybrid;
+  try {
+    for (const std::string& i : integrations) hybrid.push_back(chs::timeIntegrationFromName(i));
+  } catch (const chs::InputError& e) {
+    std::fprintf(stderr, "cloth_vs_bullet: %s\n", e.what());
+    return 2;
+  }
 
   chs::bench::printMachine(threads);
   std::printf(
@@ -332,8 +348,10 @@ int main(int argc, char** argv) {
       {20, 0.01, 1.0 / 600},
   };
   for (const BulletSettings& b : bullet) runs.push_back(runBullet(scene, b, every));
-  runs.push_back(runHybrid(scene, threads, every));
-  if (single_thread_too && threads > 1) runs.push_back(runHybrid(scene, 1, every));
+  for (chs::TimeIntegration i : hybrid) {
+    runs.push_back(runHybrid(scene, i, threads, every));
+    if (single_thread_too && threads > 1) runs.push_back(runHybrid(scene, i, 1, every));
+  }
   printSummary(runs, scene);
   return 0;
 }

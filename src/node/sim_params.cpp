@@ -42,13 +42,11 @@ void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings
   nh.param("display_segments", s.display_segments, s.display_segments);
   std::string integration = "symplectic_euler";
   nh.param("integration", integration, integration);
-  if (integration == "symplectic_euler")
-    s.integration = chs::TimeIntegration::kSymplecticEuler;
-  else if (integration == "backward_euler")
-    s.integration = chs::TimeIntegration::kBackwardEuler;
-  else
-    throw chs::InputError("parameter ~mpm/integration '" + integration +
-                          "': use symplectic_euler or backward_euler");
+  try {
+    s.integration = chs::timeIntegrationFromName(integration);
+  } catch (const chs::InputError& e) {
+    throw chs::InputError(std::string("parameter ~mpm/") + e.what());
+  }
   nh.param("implicit_tolerance", s.implicit_tolerance, s.implicit_tolerance);
   nh.param("max_newton_iterations", s.max_newton_iterations, s.max_newton_iterations);
   nh.param("max_krylov_iterations", s.max_krylov_iterations, s.max_krylov_iterations);

@@ -20,9 +20,6 @@ nlohmann::json vec(const Eigen::Vector3d& v) {
   return {num(v.x()), num(v.y()), num(v.z())};
 }
 
-std::string integrationName(TimeIntegration i) {
-  return i == TimeIntegration::kBackwardEuler ? "backward_euler" : "symplectic_euler";
-}
 
 }  // namespace
 
@@ -46,7 +43,7 @@ std::string simulationReportJson(const SimulationScene& scene, const SimulationS
                 {"body_friction", scene.world.body_friction},
                 {"contact_distance_m", scene.world.contact_distance},
                 {"damping_per_s", scene.shell.damping},
-                {"integration", integrationName(scene.shell.integration)},
+                {"integration", timeIntegrationName(scene.shell.integration)},
                 {"safety", scene.shell.safety},
                 {"cfl", scene.shell.cfl},
                 {"max_substeps_per_frame", scene.max_substeps_per_frame}};

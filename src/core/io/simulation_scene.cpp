@@ -242,13 +242,11 @@ void parseWorld(const YAML::Node& node, SimulationScene& scene) {
   sh.damping = w.number("damping", sh.damping);
   if (sh.damping < 0.0) failKey(w.key("damping"), "must not be negative (1/s)");
   const std::string integration = w.text("integration", "symplectic_euler");
-  if (integration == "symplectic_euler")
-    sh.integration = TimeIntegration::kSymplecticEuler;
-  else if (integration == "backward_euler")
-    sh.integration = TimeIntegration::kBackwardEuler;
-  else
-    failKey(w.key("integration"),
-            "must be symplectic_euler or backward_euler, got '" + integration + "'");
+  try {
+    sh.integration = timeIntegrationFromName(integration);
+  } catch (const InputError& e) {
+    failKey(w.key("integration"), e.what());
+  }
   sh.max_time_step = w.positive("max_time_step", sh.max_time_step);
   sh.safety = w.positive("safety", sh.safety);
   sh.cfl = w.positive("cfl", sh.cfl);

@@ -227,8 +227,8 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
 void HybridShellDynamics::step(double dt) {
   if (!(dt > 0.0 && std::isfinite(dt)))
     throw InputError("hybrid shell: time step must be positive, got " + std::to_string(dt));
-  if (settings_.integration == TimeIntegration::kSymplecticEuler) {
-    advance(dt, false);
+  if (settings_.integration != TimeIntegration::kBackwardEuler) {
+    advance(dt, settings_.integration);
     return;
   }
   // A backward Euler solve that stops short of its tolerance (Newton stalls at the kinks of
@@ -236,7 +236,7 @@ void HybridShellDynamics::step(double dt) {
   // can let layers pass through each other: the step is redone with explicit substeps instead,
   // the pins moving along the same straight path.
   const std::unique_ptr<DynamicsSnapshot> start = snapshot();
-  advance(dt, true);
+  advance(dt, TimeIntegration::kBackwardEuler);
   if (last_solve_.converged()) return;
   restore(*start);
   ++implicit_fallbacks_;
@@ -247,15 +247,15 @@ void HybridShellDynamics::step(double dt) {
     const double h = std::min(explicitTimeStep(), t1 - time_);
     const double f = (time_ + h - t0) / dt;
     held.forEachPinned([&](int p) { pins_.pin(p, from[p] + (held.target(p) - from[p]) * f); });
-    advance(h, false);
+    advance(h, TimeIntegration::kSymplecticEuler);
   }
   pins_ = held;
 }
 
-void HybridShellDynamics::advance(double dt, bool implicit) {
+void HybridShellDynamics::advance(double dt, TimeIntegration integration) {
   beginStep(dt);
   transferToGrid();
-  updateGrid(dt, implicit);
+  updateGrid(dt, integration);
   transferFromGrid(dt);
   endStep(dt);
 }
@@ -271,14 +271,78 @@ void HybridShellDynamics::beginStep(double dt) {
     step_start_velocity_[c.ghost] = control_.v[c.ghost];
   }
   collider_impulse_.assign(grid_colliders_.size(), mpm::ColliderImpulse());
+  if (lagrangian()) {
+    StageTimer t(times_.elastic_solve);
+    solveElasticity(dt);
+  }
 }
 
-bool HybridShellDynamics::updateGrid(double dt) {
-  return updateGrid(dt, settings_.integration == TimeIntegration::kBackwardEuler);
+// The elastic stage of the Lagrangian implicit step: backward Euler of the control points alone
+// (shell/implicit_elasticity.h) from x^ = x^n + dt v^n / (1 + c dt) + dt^2 g, with the damping
+// taken implicitly on the incoming velocity as dampGridMomentum does. Pins hold their targets,
+// fixed components their reference values, clamps slave their points to the interior
+// neighbours. The solution's velocities (x* - x^n) / dt are what the grid receives; its forces
+// -dPsi/dx(x*) are what pins and clamps balance.
+void HybridShellDynamics::solveElasticity(double dt) {
+  const int n = numVertices();
+  if (!elasticity_) {
+    ControlPointLinks links;
+    links.owner.resize(n);
+    links.map.assign(n, Eigen::Matrix3d::Identity());
+    for (int p = 0; p < n; ++p) links.owner[p] = p;
+    for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
+      // The slaving of clamped_edges.h: x_B = c - (I - t t^T)(x_N - c) / 2, x_G = c + R (x_N - c).
+      const Eigen::Matrix3d tt = c.direction * c.direction.transpose();
+      links.owner[c.boundary] = links.owner[c.ghost] = c.interior;
+      links.map[c.boundary] = -0.5 * (Eigen::Matrix3d::Identity() - tt);
+      links.map[c.ghost] = Eigen::Matrix3d::Identity() - 2.0 * tt;
+    }
+    elasticity_ = std::make_unique<ImplicitElasticity>(kl_points_, n, std::move(links));
+  }
+  const double keep = 1.0 / (1.0 + settings_.damping * dt);
+  std::vector<Vec3> x_hat(n), x(n), free = free_axes_;
+  // Newton starts from the inertial motion without gravity: from x^ itself a stiff membrane would
+  // start stretched by dt^2 g against its pins, a residual a hundred times larger.
+  for (int p = 0; p < n; ++p) {
+    x[p] = control_.x[p] + dt * keep * control_.v[p];
+    x_hat[p] = x[p] + dt * dt * gravity_;
+  }
+  for (int p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a)
+      if (free_axes_[p][a] == 0.0) x[p][a] = reference_[p][a];
+  pins_.forEachPinned([&](int p) {
+    x[p] = pins_.target(p);
+    free[p].setZero();
+  });
+  clamps_.placePositions(x);
+  ImplicitElasticitySettings es;
+  es.tolerance = settings_.implicit_tolerance;
+  es.max_iterations = settings_.max_newton_iterations;
+  es.reuse_factorization = settings_.reuse_factorization;
+  last_elastic_ = elasticity_->solve(
+      x, x_hat, control_.mass, dt, free, lamina_,
+      [this](std::vector<Vec3>& y) { clamps_.placePositions(y); }, es);
+  lagrangian_velocity_.resize(n);
+  elastic_force_.resize(n);
+  for (int p = 0; p < n; ++p) {
+    lagrangian_velocity_[p] = (x[p] - control_.x[p]) / dt;
+    elastic_force_[p] = -elasticity_->elasticGradient()[p];
+  }
+  control_.v = lagrangian_velocity_;
+  // The grid sees v* as a plain average (PIC): an affine part from the last step would add a
+  // velocity field the elastic solve never saw.
+  for (auto& C : control_.C) C.setZero();
 }
 
-bool HybridShellDynamics::updateGrid(double dt, bool implicit) {
-  if (implicit) {
+bool HybridShellDynamics::updateGrid(double dt) { return updateGrid(dt, settings_.integration); }
+
+bool HybridShellDynamics::updateGrid(double dt, TimeIntegration integration) {
+  if (integration == TimeIntegration::kLagrangianImplicit) {
+    StageTimer t(times_.grid_update);
+    solveGridMomentum(dt, true);
+    return last_solve_.converged() && last_elastic_.converged;
+  }
+  if (integration == TimeIntegration::kBackwardEuler) {
     StageTimer t(times_.grid_update);
     solveGridMomentum(dt);
     return last_solve_.converged();
@@ -331,6 +395,7 @@ void HybridShellDynamics::transferToGrid() {
   mpm::particleToGrid({&control_, &contact_.p, &solid_}, grid_, settings_.kernel_degree,
                       &supports_);
   std::swap(control_.mass, transfer_mass_);
+  if (lagrangian()) transferred_velocity_ = grid_.velocity;
 }
 
 // Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the forces at the step's start; the solid's
@@ -347,11 +412,16 @@ void HybridShellDynamics::computeGridForces() {
 // contact force with the weight gradients (5.49), dotted with the step-start fibre a^n because
 // the trial fibre is (I + dt sum_i v_i (x) grad w_ip) a^n (5.44).
 void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
-                                             const std::vector<Vec3>& fibres) {
+                                             const std::vector<Vec3>& fibres,
+                                             bool with_elasticity) {
   const int nc = numVertices();
   std::fill(grid_.force.begin(), grid_.force.end(), Vec3::Zero());
-  kirchhoffLoveEnergy(kl_points_, lamina_, x_control, &kl_gradient_);
-  for (int p = 0; p < nc; ++p) control_force_[p] = -kl_gradient_[p];  // (5.32)
+  if (with_elasticity) {
+    kirchhoffLoveEnergy(kl_points_, lamina_, x_control, &kl_gradient_);
+    for (int p = 0; p < nc; ++p) control_force_[p] = -kl_gradient_[p];  // (5.32)
+  } else {
+    std::fill(control_force_.begin(), control_force_.end(), Vec3::Zero());
+  }
   tbb::enumerable_thread_specific<std::vector<Vec3>> local(
       [nc] { return std::vector<Vec3>(nc, Vec3::Zero()); });
   tbb::parallel_for(0, contact_.size(), [&](int p) {
@@ -369,11 +439,12 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   grid_force_ = control_force_;
   // Clamped points and ghosts move with their interior neighbour N: their forces, and the part of
   // their weight the grid does not already apply to the mass N carries for them, act on N.
+  const Vec3 g = with_elasticity ? gravity_ : Vec3::Zero();
   for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
     const double mb = control_.mass[c.boundary], mg = control_.mass[c.ghost];
-    grid_force_[c.interior] += clamps_.foldedForce(c, grid_force_[c.boundary] + mb * gravity_,
-                                                   grid_force_[c.ghost] + mg * gravity_) -
-                               ClampedEdges::carriedMass(mb, mg) * gravity_;
+    grid_force_[c.interior] += clamps_.foldedForce(c, grid_force_[c.boundary] + mb * g,
+                                                   grid_force_[c.ghost] + mg * g) -
+                               ClampedEdges::carriedMass(mb, mg) * g;
     grid_force_[c.boundary].setZero();
     grid_force_[c.ghost].setZero();
   }
@@ -423,7 +494,7 @@ void HybridShellDynamics::carriedVelocity(const std::vector<Vec3>& node_velocity
 // which is why the solve is Newton-GMRES. Denting (5.5.5) is lagged: it changes the stiffness,
 // not the contact.
 void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_velocity,
-                                                 double dt) {
+                                                 double dt, bool with_elasticity) {
   const int deg = settings_.kernel_degree;
   mpm::interpolateNodeField(grid_, node_velocity, control_.x, deg, supports_[0], &trial_shift_,
                             nullptr);
@@ -449,7 +520,7 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
     trial_fibre_[p] =
         projectContactFibre(a1, a2, a + dt * fibre_gradient_[p] * a, contact_material_);
   });
-  scatterShellForces(trial_control_, trial_fibre_);
+  scatterShellForces(trial_control_, trial_fibre_, with_elasticity);
   scatterTrialSolidStress(node_velocity, dt);
 }
 
@@ -501,8 +572,9 @@ void HybridShellDynamics::dampGridMomentum(double dt) {
 // massless contact particles or pins) stay at rest as in the explicit update. The obstacles'
 // conditions follow the solve, as in the explicit step. A solve that stops short of its
 // tolerance keeps its last iterate (lastImplicitSolve() says so; the caller's checks decide).
-void HybridShellDynamics::solveGridMomentum(double dt) {
-  dampGridMomentum(dt);
+void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
+  if (!contact_only) dampGridMomentum(dt);
+  const Vec3 g = contact_only ? Vec3::Zero() : gravity_;
   std::vector<int> node;
   for (int i = 0; i < grid_.size(); ++i)
     if (grid_.mass[i] > 0.0) node.push_back(i);
@@ -510,7 +582,7 @@ void HybridShellDynamics::solveGridMomentum(double dt) {
   Eigen::VectorXd v(3 * n), v_free(3 * n), mass(3 * n);
   double total_mass = 0.0;
   for (int k = 0; k < n; ++k) {
-    v_free.segment<3>(3 * k) = grid_.velocity[node[k]] + dt * gravity_;
+    v_free.segment<3>(3 * k) = grid_.velocity[node[k]] + dt * g;
     mass.segment<3>(3 * k).setConstant(grid_.mass[node[k]]);
     total_mass += grid_.mass[node[k]];
   }
@@ -518,7 +590,7 @@ void HybridShellDynamics::solveGridMomentum(double dt) {
   std::vector<Vec3> node_velocity(grid_.size(), Vec3::Zero());
   auto residual = [&](const Eigen::VectorXd& u, Eigen::VectorXd& r) {
     for (int k = 0; k < n; ++k) node_velocity[node[k]] = u.segment<3>(3 * k);
-    computeTrialGridForces(node_velocity, dt);
+    computeTrialGridForces(node_velocity, dt, !contact_only);
     r.resize(3 * n);
     for (int k = 0; k < n; ++k)
       r.segment<3>(3 * k) =
@@ -553,8 +625,22 @@ void HybridShellDynamics::transferToParticles(double dt) {
   mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x,
                                         settings_.kernel_degree, supports_[1], fibre_gradient_);
   std::fill(control_.F.begin(), control_.F.end(), Eigen::Matrix3d::Identity());
+  if (lagrangian())
+    mpm::interpolateNodeField(grid_, transferred_velocity_, control_.x, settings_.kernel_degree,
+                              supports_[0], &transferred_at_particles_, nullptr);
   mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[0]);
+  if (lagrangian()) {
+    // Han (4.12) with xi = 1: the elastic velocity plus what the grid's contact and obstacles
+    // changed of it. A plain grid velocity (PIC or APIC) would average away the elastic solve's
+    // sub-cell detail and damp the cloth.
+    for (int p = 0; p < numVertices(); ++p) {
+      const Vec3 x_start = control_.x[p] - dt * control_.v[p];
+      control_.v[p] = lagrangian_velocity_[p] + control_.v[p] - transferred_at_particles_[p];
+      control_.x[p] = x_start + dt * control_.v[p];
+      control_.C[p].setZero();
+    }
+  }
   // Massless contact particles need no velocity: (5.54) places them and the fibres take S v.
   if (settings_.contact_mass_fraction > 0.0)
     mpm::gridToParticle(grid_, contact_.p, settings_.kernel_degree, settings_.rpic_damping, dt,
@@ -578,7 +664,7 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
       control_.x[p] = pins_.target(p);
       pin_force_[p] =
           control_.mass[p] * ((control_.v[p] - step_start_velocity_[p]) / dt - gravity_) -
-          control_force_[p];
+          control_force_[p] - (lagrangian() ? elastic_force_[p] : Vec3::Zero());
       continue;
     }
     pin_force_[p].setZero();
@@ -631,7 +717,7 @@ void HybridShellDynamics::placeClamped(double dt) {
   clamps_.placeVelocities(control_.v);
   const auto residual = [&](int p) {
     return Vec3(control_.mass[p] * ((control_.v[p] - step_start_velocity_[p]) / dt - gravity_) -
-                control_force_[p]);
+                control_force_[p] - (lagrangian() ? elastic_force_[p] : Vec3::Zero()));
   };
   for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
     const Vec3& rb = clamp_residual_[c.boundary] = residual(c.boundary);
@@ -679,7 +765,7 @@ double HybridShellDynamics::explicitTimeStep() const {
 }
 
 double HybridShellDynamics::stableTimeStep() const {
-  if (settings_.integration == TimeIntegration::kBackwardEuler)
+  if (settings_.integration != TimeIntegration::kSymplecticEuler)
     return std::min(settings_.max_time_step, cflTimeStep());
   return explicitTimeStep();
 }
@@ -923,6 +1009,12 @@ void HybridShellDynamics::readState(StateReader& in) {
 void HybridShellDynamics::addSolid(mpm::Particles particles, const mpm::HenckySolid& material) {
   if (solid_.size() > 0)
     throw InputError("hybrid shell: it already carries a solid (one solid per shell)");
+  // The Lagrangian step gives the grid no gravity (the shell's elastic stage took it) and no
+  // stress but contact: a solid's particles would float.
+  if (lagrangian())
+    throw InputError(
+        "hybrid shell: the Lagrangian implicit integration carries no solid; use "
+        "symplectic_euler or backward_euler");
   const std::size_t n = particles.x.size();
   if (n == 0) throw InputError("hybrid shell: the solid has no particles");
   if (particles.v.size() != n || particles.C.size() != n || particles.F.size() != n ||

@@ -5,9 +5,9 @@
 namespace chs {
 namespace {
 
-// dPsi/d of the five stencil sums a_1, a_2, a_{1,1}, a_{1,2}, a_{2,2}: dPsi/dx_k is their
-// combination with the stencil's du, dv, duu, duv, dvv weights.
-using StencilAdjoint = std::array<Eigen::Vector3d, 5>;
+// dPsi/d of the five stencil sums: dPsi/dx_k is their combination with the stencil's du, dv,
+// duu, duv, dvv weights.
+using StencilAdjoint = StencilSums;
 
 // Adjoints accumulated from a_3 and a_{3,alpha} back to a_alpha, a_{alpha,beta}, given dPsi/da_i
 // (columns of dpsi_da) and dPsi/da_{3,alpha} (columns of dpsi_da3d).
@@ -55,21 +55,32 @@ Eigen::Vector3d stencilGradient(const SurfaceStencil& s, int k, const StencilAdj
 
 }  // namespace
 
-MidSurfaceFrame MidSurfaceFrame::evaluate(const SurfaceStencil& stencil,
-                                          const std::vector<Eigen::Vector3d>& x) {
-  MidSurfaceFrame f;
+StencilSums MidSurfaceFrame::sums(const SurfaceStencil& stencil,
+                                  const std::vector<Eigen::Vector3d>& x) {
   // One pass over the stencil for all five sums.
-  Eigen::Vector3d a1 = Eigen::Vector3d::Zero(), a2 = a1, a11 = a1, a12 = a1, a22 = a1;
+  StencilSums s;
+  for (auto& v : s) v.setZero();
   for (int k = 0; k < stencil.size(); ++k) {
     const Eigen::Vector3d& xk = x[stencil.points[k]];
-    a1 += stencil.du[k] * xk;
-    a2 += stencil.dv[k] * xk;
-    a11 += stencil.duu[k] * xk;
-    a12 += stencil.duv[k] * xk;
-    a22 += stencil.dvv[k] * xk;
+    s[0] += stencil.du[k] * xk;
+    s[1] += stencil.dv[k] * xk;
+    s[2] += stencil.duu[k] * xk;
+    s[3] += stencil.duv[k] * xk;
+    s[4] += stencil.dvv[k] * xk;
   }
+  return s;
+}
+
+MidSurfaceFrame MidSurfaceFrame::evaluate(const SurfaceStencil& stencil,
+                                          const std::vector<Eigen::Vector3d>& x) {
+  return fromSums(sums(stencil, x));
+}
+
+MidSurfaceFrame MidSurfaceFrame::fromSums(const StencilSums& s) {
+  MidSurfaceFrame f;
+  const Eigen::Vector3d &a1 = s[0], &a2 = s[1];
   f.a = {a1, a2};
-  f.a_uv = {a11, a12, a22};
+  f.a_uv = {s[2], s[3], s[4]};
   f.normal = a1.cross(a2);
   f.area_ratio = f.normal.norm();
   f.a3 = f.normal / f.area_ratio;
@@ -104,6 +115,11 @@ void MidSurfaceFrame::addPullBack(const SurfaceStencil& stencil, const Eigen::Ma
   const StencilAdjoint adj = stencilAdjoint(*this, dpsi_da, dpsi_da3d);
   for (int k = 0; k < stencil.size(); ++k)
     gradient[stencil.points[k]] += stencilGradient(stencil, k, adj);
+}
+
+StencilSums MidSurfaceFrame::sumAdjoint(const Eigen::Matrix3d& dpsi_da,
+                                        const Eigen::Matrix<double, 3, 2>& dpsi_da3d) const {
+  return stencilAdjoint(*this, dpsi_da, dpsi_da3d);
 }
 
 }  // namespace chs

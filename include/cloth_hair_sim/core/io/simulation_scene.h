@@ -27,7 +27,7 @@ namespace chs {
 //     body_friction: mu between bodies  (default 0.3)
 //     contact_distance: m               (0: a quarter of dx)
 //     damping: 1/s                      (viscous, on the grid)
-//     integration: symplectic_euler | backward_euler
+//     integration: symplectic_euler | backward_euler | lagrangian_implicit
 //     max_time_step: s                  (backward Euler's longest step, default 1/240)
 //     safety: fraction of the explicit stability bound taken (default 0.5)
 //     cfl: fraction of dx a particle may move in a step (default 0.3)

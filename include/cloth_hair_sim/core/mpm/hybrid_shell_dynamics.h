@@ -16,8 +16,10 @@
 #include "cloth_hair_sim/core/mpm/particle_projection.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
 #include "cloth_hair_sim/core/mpm/support_nodes.h"
+#include "cloth_hair_sim/core/mpm/time_integration.h"
 #include "cloth_hair_sim/core/shell/contact_potential.h"
 #include "cloth_hair_sim/core/shell/hencky_lamina.h"
+#include "cloth_hair_sim/core/shell/implicit_elasticity.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 #include "cloth_hair_sim/core/solver/newton_krylov.h"
 #include "cloth_hair_sim/core/subdiv/clamped_edges.h"
@@ -27,11 +29,6 @@
 
 namespace chs {
 
-// How the grid momentum update (Han (3.7)-(3.9), (5.40)) takes the internal forces: at the
-// grid's current positions x* = x_i (symplectic Euler, explicit, bounded by the membrane wave
-// speed), or at its end-of-step positions x* = x_i + dt v_i^{n+1} (backward Euler, a nonlinear
-// system per step, bounded by the CFL condition only).
-enum class TimeIntegration { kSymplecticEuler, kBackwardEuler };
 
 // Resolution and model knobs of the hybrid shell. Zero or negative lengths and stiffnesses
 // mean "derive from the mesh and material" as documented per field.
@@ -48,9 +45,13 @@ struct HybridShellSettings {
   // mass-weighted RMS of the velocity residual, sqrt(sum |r_i|^2 / m_i / sum m_i) with
   // r_i = m_i (v_i - v~_i) - dt f_i(x*), is below implicit_tolerance [m/s]; krylov_tolerance is
   // the tightest GMRES forcing term (adaptive from 0.5, NewtonKrylovSettings).
+  // The Lagrangian implicit step uses the same step length, tolerance and Newton limit for its
+  // elastic solve, and keeps its Cholesky factor across iterations and steps while each
+  // iteration still cuts the residual to a quarter (ImplicitElasticitySettings).
   double max_time_step = 1.0 / 240.0;
   double implicit_tolerance = 1e-5;
   int max_newton_iterations = 8;
+  bool reuse_factorization = true;
   int max_krylov_iterations = 60;
   double krylov_tolerance = 1e-2;
   // Kirchhoff-Love quadrature (type iv): in-plane Gauss points per face edge and the rule
@@ -79,7 +80,7 @@ struct HybridShellSettings {
 
 // Wall time spent in each stage of step(), summed since construction [s].
 struct HybridStageTimes {
-  double transfer_to_grid = 0.0, shell_forces = 0.0, grid_update = 0.0, transfer_to_particles = 0.0,
+  double elastic_solve = 0.0, transfer_to_grid = 0.0, shell_forces = 0.0, grid_update = 0.0, transfer_to_particles = 0.0,
          plasticity = 0.0;
   int steps = 0;
 };
@@ -209,29 +210,39 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   // The Newton-Krylov solve of the last backward Euler step, and how many backward Euler steps
   // fell short of the tolerance and were redone with explicit substeps (since construction).
   const NewtonKrylovResult& lastImplicitSolve() const { return last_solve_; }
+  // The Lagrangian implicit step's elastic solve of the last step.
+  const ImplicitElasticityResult& lastElasticSolve() const { return last_elastic_; }
   int implicitFallbacks() const { return implicit_fallbacks_; }
   const LimitSurface& limitSurface() const { return *surface_; }
   // Points of the limit surface now (the display samples), for audits.
   std::vector<Eigen::Vector3d> surfacePoints() const;
 
  private:
-  // One step of the stages below: symplectic Euler, or backward Euler if `implicit`.
-  void advance(double dt, bool implicit);
-  bool updateGrid(double dt, bool implicit);
+  // One step of the stages below with this integration.
+  void advance(double dt, TimeIntegration integration);
+  bool updateGrid(double dt, TimeIntegration integration);
+  bool lagrangian() const { return settings_.integration == TimeIntegration::kLagrangianImplicit; }
+  // The Lagrangian implicit step's elastic stage: the control points' end-of-step positions under
+  // elasticity, gravity and damping, taken as their velocities for the grid.
+  void solveElasticity(double dt);
   double explicitTimeStep() const;  // elastic bound times safety, and CFL
   double cflTimeStep() const;
   // The stages of step(), Han section 5.5.
   void computeGridForces();
   void updateGridMomentum(double dt);
-  void solveGridMomentum(double dt);  // backward Euler: computeGridForces + updateGridMomentum
+  // Backward Euler: computeGridForces + updateGridMomentum as one solve. With contact_only, the
+  // Lagrangian implicit step's grid stage: the fibres' contact forces alone, no gravity or
+  // damping (the elastic stage took them).
+  void solveGridMomentum(double dt, bool contact_only = false);
   // Forces on the grid with the grid moved by node_velocity over dt (x* = x_i + dt v_i).
-  void computeTrialGridForces(const std::vector<Eigen::Vector3d>& node_velocity, double dt);
+  void computeTrialGridForces(const std::vector<Eigen::Vector3d>& node_velocity, double dt,
+                              bool with_elasticity = true);
   // Adds the solid's stress forces at trial deformation gradients (I + dt grad v) F^n to the grid.
   void scatterTrialSolidStress(const std::vector<Eigen::Vector3d>& node_velocity, double dt);
   // -dPsi/dx_i on the grid (into grid_.force) for control points at x_control and contact
   // fibres `fibres`, through the weights at the particles' step-start positions.
   void scatterShellForces(const std::vector<Eigen::Vector3d>& x_control,
-                          const std::vector<Eigen::Vector3d>& fibres);
+                          const std::vector<Eigen::Vector3d>& fibres, bool with_elasticity = true);
   void dampGridMomentum(double dt);
   // The particles that give the grid its mass (control points without the pinned ones, contact
   // particles if they carry mass, the solid), at the step start.
@@ -295,6 +306,13 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   std::vector<Eigen::Vector3d> trial_control_, trial_shift_, trial_fibre_;
   std::vector<Eigen::Matrix3d> solid_gradient_, solid_stress_;  // grad v and V^0 P(F*) F^nT
   NewtonKrylovResult last_solve_;
+  // Lagrangian implicit step: the elastic solver (its factor is a cache, not state), the
+  // velocities it gave the control points, -dPsi^KL/dx at its solution, and the grid velocity
+  // right after the transfer (the FLIP transfer back hands on the change from it).
+  std::unique_ptr<ImplicitElasticity> elasticity_;
+  ImplicitElasticityResult last_elastic_;
+  std::vector<Eigen::Vector3d> lagrangian_velocity_, elastic_force_, transferred_velocity_,
+      transferred_at_particles_;
   std::vector<mpm::ColliderImpulse> collider_impulse_;  // per collider, this step
   int implicit_fallbacks_ = 0;
 

@@ -12,6 +12,10 @@ namespace chs {
 // tangents a_alpha, second derivatives a_{alpha,beta}, unit normal a_3 = a_1 x a_2 / |a_1 x a_2|
 // and its derivatives a_{3,alpha} = (I - a_3 a_3) (a_{1,alpha} x a_2 + a_1 x a_{2,alpha}) / |.|.
 // The lamina basis at height xi3 is g_alpha = a_alpha + xi3 a_{3,alpha}, g_3 = a_3.
+// The five stencil sums a_1, a_2, a_{1,1}, a_{1,2}, a_{2,2} (in this order) that a frame depends
+// on, each linear in the control positions (sum_k du[k] x_k, ...); or adjoints dPsi/d of them.
+using StencilSums = std::array<Eigen::Vector3d, 5>;
+
 struct MidSurfaceFrame {
   std::array<Eigen::Vector3d, 2> a;         // a_1, a_2
   std::array<Eigen::Vector3d, 3> a_uv;      // a_{1,1}, a_{1,2} = a_{2,1}, a_{2,2}
@@ -23,6 +27,8 @@ struct MidSurfaceFrame {
 
   static MidSurfaceFrame evaluate(const SurfaceStencil& stencil,
                                   const std::vector<Eigen::Vector3d>& x);
+  static StencilSums sums(const SurfaceStencil& stencil, const std::vector<Eigen::Vector3d>& x);
+  static MidSurfaceFrame fromSums(const StencilSums& s);
 
   // Columns g_1, g_2, g_3 at height xi3.
   Eigen::Matrix3d laminaBasis(double xi3) const;
@@ -40,6 +46,9 @@ struct MidSurfaceFrame {
   void addPullBack(const SurfaceStencil& stencil, const Eigen::Matrix3d& dpsi_da,
                    const Eigen::Matrix<double, 3, 2>& dpsi_da3d,
                    std::vector<Eigen::Vector3d>& gradient) const;
+  // The chain rule as far as the stencil sums: dPsi/d(a_1, a_2, a_{1,1}, a_{1,2}, a_{2,2}).
+  StencilSums sumAdjoint(const Eigen::Matrix3d& dpsi_da,
+                         const Eigen::Matrix<double, 3, 2>& dpsi_da3d) const;
 };
 
 }  // namespace chs

@@ -1,0 +1,46 @@
+#pragma once
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cloth_hair_sim/core/shell/hencky_lamina.h"
+#include "cloth_hair_sim/core/shell/kirchhoff_love_point.h"
+#include "cloth_hair_sim/core/shell/midsurface_frame.h"
+
+namespace chs {
+
+// Second derivatives of the Kirchhoff-Love energy (5.31) for an implicit step. A fibre (the
+// quadrature points through the thickness at one (u, v), sharing a stencil) depends on the control
+// points only through its five stencil sums s = (a_1, a_2, a_{1,1}, a_{1,2}, a_{2,2})
+// (MidSurfaceFrame), each linear in them, so its Hessian in the control points is J^T H_s J with
+// H_s the 15 x 15 Hessian in the sums and J the stencil's weights.
+//
+// H_s comes from forward differences of the exact gradient in s: the Hencky lamina's second
+// derivatives through its log stretches (and the normal's through a_3 and a_{3,alpha}) are long to
+// write by hand, and templating the material for automatic differentiation would touch every
+// shell model. With steps of 1e-7 of the sums' size the differences are accurate to ~1e-7, far
+// below what a Newton matrix needs (the line search checks the energy itself).
+using FibreHessian = Eigen::Matrix<double, 15, 15>;  // index 3 a + i: sum a, component i
+
+struct FibreRange {
+  int first = 0, last = 0;  // quadrature points [first, last) of one fibre
+};
+
+// The fibres of a point list built by buildKirchhoffLovePoints (consecutive points that share a
+// stencil object).
+std::vector<FibreRange> fibreRanges(const std::vector<KirchhoffLovePoint>& points);
+
+// Energy of one fibre at the sums s, and its gradient dPsi/ds if asked.
+double fibreEnergy(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
+                   const HenckyLamina& material, const StencilSums& s,
+                   StencilSums* gradient = nullptr);
+
+// The fibre's Hessian in its sums, made positive semidefinite by clamping its negative
+// eigenvalues to zero (as IPC and HOT project per element): a compressed membrane or a bent
+// lamina beyond its inflection has an indefinite Hessian, and a Newton matrix with it need not be
+// a descent direction.
+FibreHessian projectedFibreHessian(const std::vector<KirchhoffLovePoint>& points,
+                                   const FibreRange& fibre, const HenckyLamina& material,
+                                   const StencilSums& s);
+
+}  // namespace chs

@@ -1,0 +1,27 @@
+#include "cloth_hair_sim/core/mpm/time_integration.h"
+
+#include "cloth_hair_sim/core/common/input_error.h"
+
+namespace chs {
+
+std::string timeIntegrationName(TimeIntegration integration) {
+  switch (integration) {
+    case TimeIntegration::kSymplecticEuler:
+      return "symplectic_euler";
+    case TimeIntegration::kBackwardEuler:
+      return "backward_euler";
+    case TimeIntegration::kLagrangianImplicit:
+      return "lagrangian_implicit";
+  }
+  return "unknown";
+}
+
+TimeIntegration timeIntegrationFromName(const std::string& name) {
+  for (TimeIntegration i : {TimeIntegration::kSymplecticEuler, TimeIntegration::kBackwardEuler,
+                            TimeIntegration::kLagrangianImplicit})
+    if (name == timeIntegrationName(i)) return i;
+  throw InputError("integration '" + name +
+                   "': must be symplectic_euler, backward_euler or lagrangian_implicit");
+}
+
+}  // namespace chs

@@ -1,0 +1,254 @@
+#include "cloth_hair_sim/core/shell/implicit_elasticity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include <Eigen/CholmodSupport>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
+
+namespace chs {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+struct ImplicitElasticity::Factor {
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+  bool analyzed = false;
+};
+
+ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& points,
+                                       int num_points, ControlPointLinks links)
+    : points_(points),
+      n_(num_points),
+      links_(std::move(links)),
+      fibres_(fibreRanges(points)),
+      factor_(std::make_unique<Factor>()) {
+  if (static_cast<int>(links_.owner.size()) != n_ || static_cast<int>(links_.map.size()) != n_)
+    throw InputError("implicit elasticity: links for " + std::to_string(links_.owner.size()) +
+                     " points, the shell has " + std::to_string(n_));
+  for (int p = 0; p < n_; ++p) {
+    const int o = links_.owner[p];
+    if (o < 0 || o >= n_ || links_.owner[o] != o)
+      throw InputError("implicit elasticity: point " + std::to_string(p) + " has owner " +
+                       std::to_string(o) + ", which is not its own owner");
+  }
+  const std::vector<int>& owner = links_.owner;
+  std::vector<std::vector<int>> cols(n_);
+  for (int p = 0; p < n_; ++p) {
+    cols[p].push_back(p);  // every point: slaved ones get an identity row
+    cols[owner[p]].push_back(owner[p]);
+  }
+  for (const FibreRange& f : fibres_) {
+    const std::vector<int>& st = points_[f.first].stencil().points;
+    for (int k : st)
+      for (int l : st) cols[owner[k]].push_back(owner[l]);
+  }
+  block_start_.assign(n_ + 1, 0);
+  for (int r = 0; r < n_; ++r) {
+    std::sort(cols[r].begin(), cols[r].end());
+    cols[r].erase(std::unique(cols[r].begin(), cols[r].end()), cols[r].end());
+    block_start_[r + 1] = block_start_[r] + static_cast<int>(cols[r].size());
+    block_col_.insert(block_col_.end(), cols[r].begin(), cols[r].end());
+  }
+  auto block = [&](int r, int c) {
+    const auto first = block_col_.begin() + block_start_[r];
+    const auto last = block_col_.begin() + block_start_[r + 1];
+    return static_cast<int>(std::lower_bound(first, last, c) - block_col_.begin());
+  };
+  for (const FibreRange& f : fibres_) {
+    slot_start_.push_back(static_cast<int>(slot_.size()));
+    const std::vector<int>& st = points_[f.first].stencil().points;
+    for (int k : st)
+      for (int l : st) slot_.push_back(block(owner[k], owner[l]));
+  }
+  diagonal_block_.resize(n_);
+  for (int p = 0; p < n_; ++p) diagonal_block_[p] = block(p, p);
+
+  const int nb = static_cast<int>(block_col_.size());
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(9 * static_cast<std::size_t>(nb));
+  for (int r = 0; r < n_; ++r)
+    for (int b = block_start_[r]; b < block_start_[r + 1]; ++b)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) triplets.emplace_back(3 * r + i, 3 * block_col_[b] + j, 0.0);
+  matrix_.resize(3 * n_, 3 * n_);
+  matrix_.setFromTriplets(triplets.begin(), triplets.end());
+  value_index_.resize(9 * static_cast<std::size_t>(nb));
+  for (int r = 0; r < n_; ++r)
+    for (int b = block_start_[r]; b < block_start_[r + 1]; ++b)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          value_index_[9 * b + 3 * i + j] = static_cast<int>(
+              &matrix_.coeffRef(3 * r + i, 3 * block_col_[b] + j) - matrix_.valuePtr());
+}
+
+ImplicitElasticity::~ImplicitElasticity() = default;
+
+double ImplicitElasticity::incrementalPotential(const std::vector<Vec3>& x,
+                                                const std::vector<Vec3>& x_hat,
+                                                const std::vector<double>& mass, double dt,
+                                                const HenckyLamina& material, bool with_gradient) {
+  double phi = kirchhoffLoveEnergy(points_, material, x, with_gradient ? &gradient_ : nullptr);
+  for (int p = 0; p < n_; ++p) phi += 0.5 * mass[p] * (x[p] - x_hat[p]).squaredNorm() / (dt * dt);
+  return phi;
+}
+
+void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<double>& mass,
+                                  double dt, const std::vector<Vec3>& free,
+                                  const HenckyLamina& material) {
+  const std::size_t nv = 9 * block_col_.size();
+  tbb::enumerable_thread_specific<std::vector<double>> local(
+      [nv] { return std::vector<double>(nv, 0.0); });
+  const std::vector<int>& owner = links_.owner;
+  tbb::parallel_for(0, static_cast<int>(fibres_.size()), [&](int f) {
+    const SurfaceStencil& st = points_[fibres_[f].first].stencil();
+    const FibreHessian H =
+        projectedFibreHessian(points_, fibres_[f], material, MidSurfaceFrame::sums(st, x));
+    const std::vector<double>* c[5] = {&st.du, &st.dv, &st.duu, &st.duv, &st.dvv};
+    const int S = st.size();
+    std::vector<double>& v = local.local();
+    const int* slot = &slot_[slot_start_[f]];
+    for (int k = 0; k < S; ++k) {
+      // T_k = sum_a c_a[k] H_{a.}, then block (k, l) = sum_b T_k,b c_b[l].
+      Eigen::Matrix<double, 3, 15> T = Eigen::Matrix<double, 3, 15>::Zero();
+      for (int a = 0; a < 5; ++a) T += (*c[a])[k] * H.block<3, 15>(3 * a, 0);
+      const int pk = st.points[k];
+      for (int l = 0; l < S; ++l) {
+        Mat3 B = Mat3::Zero();
+        for (int b = 0; b < 5; ++b) B += (*c[b])[l] * T.block<3, 3>(0, 3 * b);
+        const int pl = st.points[l];
+        if (owner[pk] != pk) B = links_.map[pk].transpose() * B;
+        if (owner[pl] != pl) B = B * links_.map[pl];
+        double* dst = &v[9 * static_cast<std::size_t>(slot[k * S + l])];
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) dst[3 * i + j] += B(i, j);
+      }
+    }
+  });
+  std::vector<double> values(nv, 0.0);
+  for (const auto& v : local)
+    for (std::size_t i = 0; i < nv; ++i) values[i] += v[i];
+  for (int p = 0; p < n_; ++p) {
+    const Mat3 M = mass[p] / (dt * dt) * links_.map[p].transpose() * links_.map[p];
+    double* dst = &values[9 * static_cast<std::size_t>(diagonal_block_[owner[p]])];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) dst[3 * i + j] += M(i, j);
+  }
+  // Held unknowns (slaved points, pins, fixed components) as identity rows and columns: their
+  // increments solve to zero.
+  auto held = [&](int p, int a) { return owner[p] != p || free[p][a] == 0.0; };
+  for (int r = 0; r < n_; ++r)
+    for (int b = block_start_[r]; b < block_start_[r + 1]; ++b) {
+      const int c = block_col_[b];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (held(r, i) || held(c, j)) values[9 * b + 3 * i + j] = (r == c && i == j) ? 1.0 : 0.0;
+    }
+  double* a = matrix_.valuePtr();
+  for (std::size_t i = 0; i < nv; ++i) a[value_index_[i]] = values[i];
+  if (!factor_->analyzed) {
+    factor_->llt.analyzePattern(matrix_);
+    factor_->analyzed = true;
+  }
+  factor_->llt.factorize(matrix_);
+  factored_ = factor_->llt.info() == Eigen::Success;
+  factored_dt_ = dt;
+  factored_free_ = free;
+}
+
+ImplicitElasticityResult ImplicitElasticity::solve(
+    std::vector<Vec3>& x, const std::vector<Vec3>& x_hat, const std::vector<double>& mass,
+    double dt, const std::vector<Vec3>& free, const HenckyLamina& material,
+    const std::function<void(std::vector<Vec3>&)>& place, const ImplicitElasticitySettings& s) {
+  const std::size_t n = static_cast<std::size_t>(n_);
+  if (x.size() != n || x_hat.size() != n || mass.size() != n || free.size() != n)
+    throw InputError("implicit elasticity: arrays of " + std::to_string(x.size()) + ", " +
+                     std::to_string(x_hat.size()) + ", " + std::to_string(mass.size()) + ", " +
+                     std::to_string(free.size()) + " entries for " + std::to_string(n_) +
+                     " points");
+  const std::vector<int>& owner = links_.owner;
+  // Folded mass of each owner (the diagonal of J^T M J), for the residual's weights.
+  std::vector<double> folded_mass(n, 0.0);
+  double total_mass = 0.0;
+  for (int p = 0; p < n_; ++p) {
+    folded_mass[owner[p]] += mass[p] * links_.map[p].squaredNorm() / 3.0;
+    total_mass += mass[p];
+  }
+  Eigen::VectorXd g(3 * n_);
+  // dPhi/dy of the unknowns y (owners' free axes), and the residual norm dt |g| weighted by mass.
+  auto foldGradient = [&]() {
+    g.setZero();
+    for (int p = 0; p < n_; ++p) {
+      const Vec3 gp = mass[p] * (x[p] - x_hat[p]) / (dt * dt) + gradient_[p];
+      g.segment<3>(3 * owner[p]) += links_.map[p].transpose() * gp;
+    }
+    double r2 = 0.0;
+    for (int p = 0; p < n_; ++p) {
+      for (int a = 0; a < 3; ++a)
+        if (owner[p] != p || free[p][a] == 0.0) g(3 * p + a) = 0.0;
+      if (owner[p] == p && folded_mass[p] > 0.0)
+        r2 += dt * dt * g.segment<3>(3 * p).squaredNorm() / folded_mass[p];
+    }
+    return std::sqrt(r2 / total_mass);
+  };
+  ImplicitElasticityResult result;
+  double phi = incrementalPotential(x, x_hat, mass, dt, material, true);
+  result.initial_residual = result.residual = foldGradient();
+  double ratio = 0.0;  // residual reduction of the last iteration
+  std::vector<Vec3> trial(n);
+  while (result.residual >= s.tolerance && result.iterations < s.max_iterations) {
+    bool fresh = !factored_ || !s.reuse_factorization || dt != factored_dt_ ||
+                 free != factored_free_ || ratio > s.refresh_ratio;
+    bool accepted = false;
+    for (int attempt = 0; attempt < 2 && !accepted; ++attempt) {
+      if (fresh || !factored_) {
+        assemble(x, mass, dt, free, material);
+        ++result.factorizations;
+        fresh = true;
+        if (!factored_) break;  // not positive definite: cannot happen with the projection
+      }
+      const Eigen::VectorXd d = -factor_->llt.solve(g);
+      const double slope = g.dot(d);
+      double alpha = 1.0;
+      for (int cut = 0; cut <= 12; ++cut, alpha *= 0.5) {
+        trial = x;
+        for (int p = 0; p < n_; ++p)
+          if (owner[p] == p) trial[p] += alpha * d.segment<3>(3 * p);
+        place(trial);
+        std::swap(trial, x);
+        const double phi_trial = incrementalPotential(x, x_hat, mass, dt, material, true);
+        // Armijo, with room for round-off once Phi has nearly stopped changing.
+        if (std::isfinite(phi_trial) &&
+            phi_trial <= phi + 1e-4 * alpha * slope + 1e-13 * std::abs(phi)) {
+          phi = phi_trial;
+          accepted = true;
+          break;
+        }
+        std::swap(trial, x);
+        ++result.line_search_cuts;
+      }
+      // A lagged factorisation whose direction the line search cannot use: refresh once.
+      fresh = true;
+    }
+    if (!accepted) {
+      incrementalPotential(x, x_hat, mass, dt, material, true);  // gradient_ of x again
+      break;
+    }
+    ++result.iterations;
+    const double residual = foldGradient();
+    ratio = residual / std::max(result.residual, std::numeric_limits<double>::min());
+    result.residual = residual;
+  }
+  result.converged = result.residual < s.tolerance;
+  return result;
+}
+
+}  // namespace chs

@@ -1,0 +1,305 @@
+// The Lagrangian implicit step of the hybrid shell (Han's split, sections 4.2 and 6.1.1, applied
+// to the shell of chapter 5): backward Euler of the Kirchhoff-Love elasticity in the control
+// points with an assembled projected Hessian (shell/implicit_elasticity.h), then the grid for
+// contact only. Its Hessian against differences of the energy, statics that agree with the
+// explicit integrator, steps far beyond the explicit bound that never create energy, the
+// swinging sheet's numerical damping against the explicit step, free fall, momenta.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/mesh/grid_generators.h"
+#include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_hair_sim/core/shell/kirchhoff_love_hessian.h"
+#include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
+#include "cloth_hair_sim/core/subdiv/limit_surface.h"
+#include "cloth_test_material.h"
+
+namespace chs {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+HybridShellSettings lagrangian(double dt) {
+  HybridShellSettings s;
+  s.integration = TimeIntegration::kLagrangianImplicit;
+  s.max_time_step = dt;
+  return s;
+}
+
+// A 10 x 10 cm sheet of 8 x 8 quads held along its top edge, hanging in the xz plane
+// (vertical) or lying in the xy plane (horizontal, it swings down).
+struct HeldSheet {
+  DrapeProblem problem;
+  std::vector<int> top;
+  explicit HeldSheet(bool vertical) {
+    const int n = 8;
+    problem.mesh = makeRectangleMesh(0.1, 0.1, n, n);
+    if (vertical)
+      for (auto& x : problem.mesh.vertices) x = Vec3(x.x(), 0.0, x.y());
+    problem.material = testCloth();
+    for (int i = 0; i <= n; ++i) top.push_back(n * (n + 1) + i);
+    problem.bc.pinned = top;
+  }
+};
+
+double totalEnergy(const HybridShellDynamics& d, const Vec3& g) {
+  double e = d.kineticEnergy() + d.elasticEnergy();
+  for (int p = 0; p < d.numVertices(); ++p) e -= d.masses()[p] * g.dot(d.positions()[p]);
+  return e;
+}
+
+// Where a fibre's Hessian in its stencil sums is positive definite (a stretched, bent patch) the
+// projection leaves it alone, and it is the second derivative of the energy: central differences
+// of the energy along random directions agree to 1e-5.
+TEST(HybridShellLagrangian, FibreHessianIsTheEnergysSecondDerivative) {
+  QuadMesh mesh = makeRectangleMesh(0.1, 0.1, 4, 4);
+  const LimitSurface surface(mesh);
+  const auto points = buildKirchhoffLovePoints(
+      static_cast<int>(mesh.quads.size()),
+      [&](int f, double u, double v) { return surface.stencil(f, u, v); }, mesh.vertices, 1e-3);
+  std::vector<Vec3> x = mesh.vertices;
+  for (auto& p : x) p = Vec3(1.03 * p.x(), 1.02 * p.y(), 3.0 * p.x() * p.x());
+  const HenckyLamina material(1e6, 0.3);
+  const std::vector<FibreRange> fibres = fibreRanges(points);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  double worst = 0.0;
+  int checked = 0;
+  for (std::size_t f = 0; f < fibres.size(); f += 7) {
+    const StencilSums s = MidSurfaceFrame::sums(points[fibres[f].first].stencil(), x);
+    const FibreHessian H = projectedFibreHessian(points, fibres[f], material, s);
+    Eigen::Matrix<double, 15, 1> d;
+    for (int i = 0; i < 15; ++i) d(i) = normal(rng);
+    double scale = 0.0;
+    for (const auto& v : s) scale = std::max(scale, v.norm());
+    const double h = 1e-4 * scale;
+    auto energy = [&](double t) {
+      StencilSums st = s;
+      for (int a = 0; a < 5; ++a) st[a] += t * d.segment<3>(3 * a);
+      return fibreEnergy(points, fibres[f], material, st);
+    };
+    const double second = (energy(h) - 2.0 * energy(0.0) + energy(-h)) / (h * h);
+    const double quadratic = d.dot(H * d);
+    worst = std::max(worst, std::abs(second - quadratic) / std::abs(quadratic));
+    ++checked;
+  }
+  std::printf(
+      "[figure] fibre Hessian against central differences of the energy: %d fibres, worst "
+      "relative error %.2e\n",
+      checked, worst);
+  EXPECT_GT(checked, 3);
+  EXPECT_LT(worst, 1e-5);
+}
+
+// The hanging sheet's equilibrium does not depend on the integrator: the Lagrangian implicit step
+// at 1/60 s (far beyond the explicit bound) settles where the damped explicit run settles, and
+// its pins carry the weight.
+TEST(HybridShellLagrangian, HangingSheetSettlesWhereExplicitDoes) {
+  const HeldSheet sheet(true);
+  HybridShellSettings se;
+  se.damping = 20.0;
+  HybridShellDynamics explicit_run(sheet.problem, se);
+  const double dt_explicit = explicit_run.stableTimeStep();
+  while (explicit_run.time() < 0.6) explicit_run.step(explicit_run.stableTimeStep());
+
+  const double dt = 1.0 / 60.0;
+  HybridShellSettings s = lagrangian(dt);
+  s.damping = 20.0;
+  HybridShellDynamics d(sheet.problem, s);
+  Vec3 held = Vec3::Zero();
+  int samples = 0, unconverged = 0, factorizations = 0, iterations = 0, steps = 0;
+  while (d.time() < 1.2 - 1e-9) {
+    d.step(d.stableTimeStep());
+    ++steps;
+    if (!d.lastElasticSolve().converged) ++unconverged;
+    factorizations += d.lastElasticSolve().factorizations;
+    iterations += d.lastElasticSolve().iterations;
+    if (d.time() > 1.0) {
+      for (const Vec3& f : d.holdingForces(sheet.top)) held += f;
+      ++samples;
+    }
+  }
+  double gap = 0.0;
+  for (int p = 0; p < d.numVertices(); ++p)
+    gap = std::max(gap, (d.positions()[p] - explicit_run.positions()[p]).norm());
+  const double weight = d.totalMass() * 9.81, lift = held.z() / samples;
+  std::printf(
+      "[figure] hanging sheet, Lagrangian implicit at dt %.2e s (%.0f x the explicit bound %.2e "
+      "s): largest distance to the damped explicit state %.2e m (%.2e dx); pins hold %.3f %% of "
+      "the weight; %d steps, %.2f Newton iterations and %.2f factorisations per step, %d "
+      "unconverged\n",
+      dt, dt / dt_explicit, dt_explicit, gap, gap / d.gridSpacing(), 100 * lift / weight, steps,
+      double(iterations) / steps, double(factorizations) / steps, unconverged);
+  EXPECT_GT(dt / dt_explicit, 40.0);
+  EXPECT_LT(gap, 0.01 * d.gridSpacing());
+  EXPECT_NEAR(lift, weight, 1e-3 * weight);
+  EXPECT_EQ(unconverged, 0);
+}
+
+// A 10 x 2 cm strip clamped at x = 0 (ghost faces, the clamped points slaved to their interior
+// neighbours) settles under gravity where the explicit run does, and the clamp carries the
+// weight: the slaving enters the Hessian as J^T H J.
+TEST(HybridShellLagrangian, ClampedCantileverSettlesWhereExplicitDoes) {
+  constexpr int nx = 8, ny = 2;
+  constexpr double L = 0.1, tau = 6.3e-3;
+  DrapeProblem p;
+  p.mesh = makeRectangleMesh(L, 0.02, nx, ny, Vec3(0.5 * L, 0.0, 0.0));
+  p.material = testCloth(1.375e5, tau, 0.2);
+  for (int j = 0; j <= ny; ++j) p.bc.clamped.push_back(j * (nx + 1));
+  const double D = 1.375e5 * std::pow(tau, 3) / (12.0 * (1.0 - 0.09));
+  const double omega = 3.516 * std::sqrt(D / (0.2 * std::pow(L, 4)));
+  const auto settledTip = [&](HybridShellSettings s, double& clamp_load) {
+    s.damping = 2.0 * omega;
+    HybridShellDynamics d(p, s);
+    while (d.time() < 10.0 / omega) d.step(std::min(d.stableTimeStep(), 10.0 / omega - d.time()));
+    clamp_load = 0.0;
+    for (const Vec3& f : d.holdingForces(p.bc.clamped)) clamp_load += f.z();
+    clamp_load /= d.totalMass() * 9.81;
+    double z = 0.0;
+    for (int j = 0; j <= ny; ++j) z += d.positions()[j * (nx + 1) + nx].z();
+    return -z / (ny + 1);
+  };
+  double load_explicit = 0.0, load_implicit = 0.0;
+  const double tip_explicit = settledTip(HybridShellSettings{}, load_explicit);
+  const double tip_implicit = settledTip(lagrangian(1.0 / 240.0), load_implicit);
+  std::printf(
+      "[figure] clamped cantilever settled: tip control row %.4f mm Lagrangian implicit (1/240 "
+      "s) vs %.4f mm explicit (ratio %.4f); the clamp carries %.4f / %.4f of the weight\n",
+      1e3 * tip_implicit, 1e3 * tip_explicit, tip_implicit / tip_explicit, load_implicit,
+      load_explicit);
+  EXPECT_NEAR(tip_implicit / tip_explicit, 1.0, 5e-3);
+  EXPECT_NEAR(load_implicit, 1.0, 3e-3);
+}
+
+// Swing angle of the free edge about the held edge (x = 0 side held, the sheet swings in xz).
+double swingAngle(const HybridShellDynamics& d, int n) {
+  Vec3 free = Vec3::Zero();
+  for (int i = 0; i <= n; ++i) free += d.positions()[i];
+  free /= n + 1;
+  return std::atan2(free.y() - 0.05, -free.z());
+}
+
+struct Swing {
+  std::vector<double> peaks;  // |angle| at successive turning points
+  double worst_rise = 0.0, energy_lost = 0.0;
+  double scale = 0.0;  // weight times the sheet's length [J]
+};
+
+Swing swing(const HeldSheet& sheet, const HybridShellSettings& s, double duration, double dt) {
+  HybridShellDynamics d(sheet.problem, s);
+  const Vec3 g = sheet.problem.gravity;
+  const double e0 = totalEnergy(d, g);
+  double e_prev = e0;
+  Swing out;
+  out.scale = d.totalMass() * 9.81 * 0.1;
+  double a_prev = swingAngle(d, 8), da_prev = 0.0;
+  while (d.time() < duration - 1e-9) {
+    d.step(dt > 0.0 ? dt : d.stableTimeStep());
+    const double e = totalEnergy(d, g);
+    out.worst_rise = std::max(out.worst_rise, e - e_prev);
+    e_prev = e;
+    const double a = swingAngle(d, 8), da = a - a_prev;
+    if (da_prev != 0.0 && (da > 0.0) != (da_prev > 0.0)) out.peaks.push_back(std::abs(a_prev));
+    a_prev = a;
+    da_prev = da;
+  }
+  out.energy_lost = e0 - e_prev;
+  return out;
+}
+
+// A sheet held along one edge swings down from horizontal as a pendulum. The Lagrangian implicit
+// step at 1/240 s never gains energy; its numerical damping, the loss of swing amplitude from
+// one turning point to the next, is compared with the explicit step's (which has none of note)
+// and must stay below the 10 % per swing that would show.
+TEST(HybridShellLagrangian, SwingingSheetDampsLittleAndNeverGainsEnergy) {
+  const HeldSheet sheet(false);
+  const double dt = 1.0 / 240.0;
+  const Swing implicit_swing = swing(sheet, lagrangian(dt), 1.5, dt);
+  const Swing explicit_swing = swing(sheet, HybridShellSettings{}, 1.5, 0.0);
+  auto decay = [](const Swing& s) {
+    // Mean loss per half swing over the recorded turning points, per full swing.
+    if (s.peaks.size() < 2) return 1.0;
+    const double r = std::pow(s.peaks.back() / s.peaks.front(), 1.0 / (s.peaks.size() - 1));
+    return 1.0 - r * r;
+  };
+  std::printf(
+      "[figure] swinging sheet, 1.5 s: Lagrangian implicit dt %.2e s: %zu turning points, "
+      "amplitude loss %.2f %% per swing, largest energy rise in a step %.2e J; explicit: %zu "
+      "turning points, %.2f %% per swing\n",
+      dt, implicit_swing.peaks.size(), 100.0 * decay(implicit_swing), implicit_swing.worst_rise,
+      explicit_swing.peaks.size(), 100.0 * decay(explicit_swing));
+  ASSERT_GE(implicit_swing.peaks.size(), 2u);
+  EXPECT_LT(implicit_swing.worst_rise, 1e-4 * implicit_swing.scale);
+  EXPECT_LT(decay(implicit_swing), 0.10);
+}
+
+// Without internal forces the elastic stage is exact at once: the discrete free fall of
+// symplectic Euler, z_n = -g dt^2 n (n + 1) / 2.
+TEST(HybridShellLagrangian, FreeFallIsExact) {
+  DrapeProblem p;
+  p.mesh = makeRectangleMesh(0.1, 0.1, 4, 4);
+  p.material = testCloth();
+  const double dt = 1.0 / 240.0;
+  HybridShellDynamics d(p, lagrangian(dt));
+  const int n = 48;
+  for (int i = 0; i < n; ++i) d.step(dt);
+  const double expected = -9.81 * dt * dt * n * (n + 1) / 2.0;
+  double worst = 0.0;
+  for (const Vec3& x : d.positions()) worst = std::max(worst, std::abs(x.z() - expected));
+  std::printf("[figure] Lagrangian implicit free fall, %d steps: largest error %.2e m of %.4f m\n",
+              n, worst, -expected);
+  EXPECT_LT(worst, 1e-12);
+}
+
+// A curved patch spinning in free flight: the elastic forces sum to zero and the grid, with
+// nothing to touch, hands back no change, so linear momentum changes only by the solve's
+// residual. Backward Euler is not a symplectic map: the spin's angular momentum drifts, and
+// the figure is printed against the explicit step's.
+TEST(HybridShellLagrangian, MomentaInFreeFlight) {
+  DrapeProblem p;
+  p.mesh = makeRectangleMesh(0.1, 0.1, 6, 6);
+  for (auto& x : p.mesh.vertices) x.z() = 2.0 * x.x() * x.x();
+  p.material = testCloth();
+  p.gravity.setZero();
+  const Vec3 w(0.5, -1.0, 2.0), v0(0.3, 0.1, -0.2);
+  auto run = [&](const HybridShellSettings& s, double& dP, double& dL) {
+    HybridShellDynamics d(p, s);
+    std::vector<Vec3> v;
+    for (const Vec3& x : d.positions()) v.push_back(v0 + w.cross(x));
+    d.setVelocities(v);
+    const Vec3 P0 = d.linearMomentum(), L0 = d.angularMomentum();
+    while (d.time() < 0.25 - 1e-9) d.step(std::min(d.stableTimeStep(), 0.25 - d.time()));
+    dP = (d.linearMomentum() - P0).norm() / P0.norm();
+    dL = (d.angularMomentum() - L0).norm() / L0.norm();
+  };
+  HybridShellSettings s = lagrangian(1.0 / 240.0);
+  double dP = 0.0, dL = 0.0, dP_explicit = 0.0, dL_explicit = 0.0;
+  run(s, dP, dL);
+  run(HybridShellSettings{}, dP_explicit, dL_explicit);
+  const double bound = 60.0 * s.implicit_tolerance / v0.norm();
+  std::printf(
+      "[figure] free flight 0.25 s: Lagrangian implicit (1/240 s) linear momentum change %.2e "
+      "(bound %.1e), angular momentum change %.2e; explicit %.2e and %.2e\n",
+      dP, bound, dL, dP_explicit, dL_explicit);
+  EXPECT_LT(dP, bound);
+  EXPECT_LT(dL, 0.05);
+}
+
+TEST(HybridShellLagrangian, RejectsASolid) {
+  DrapeProblem p;
+  p.mesh = makeRectangleMesh(0.1, 0.1, 2, 2);
+  p.material = testCloth();
+  HybridShellDynamics d(p, lagrangian(0.01));
+  mpm::Particles solid;
+  solid.add(Vec3::Zero(), Vec3::Zero(), 1e-3, 1e-6);
+  EXPECT_THROW(d.addSolid(solid, mpm::HenckySolid(1e5, 0.3)), InputError);
+}
+
+}  // namespace
+}  // namespace chs
