@@ -246,12 +246,18 @@ Run runHybrid(const DropScene& scene, chs::TimeIntegration integration, int thre
   r.name = "hybrid shell " + chs::timeIntegrationName(integration) + ", " +
            std::to_string(threads) + " thread(s)";
   bool finite = true;
+  long newton = 0, factorizations = 0, unconverged = 0, evaluations = 0;
   for (int frame = 1; frame <= scene.frames() && finite; ++frame) {
     const double end = frame / scene.fps;
     const auto start = Clock::now();
     while (d.time() < end - 1e-12) {
       d.step(std::min(d.stableTimeStep(), end - d.time()));
       ++r.steps;
+      newton += d.lastElasticSolve().iterations;
+      factorizations += d.lastElasticSolve().factorizations;
+      unconverged += integration == chs::TimeIntegration::kLagrangianImplicit &&
+                     !d.lastElasticSolve().converged;
+      evaluations += d.lastImplicitSolve().residual_evaluations;
     }
     const double wall = secondsSince(start);
     finite = allFinite(d.positions());
@@ -262,6 +268,19 @@ Run runHybrid(const DropScene& scene, chs::TimeIntegration integration, int thre
   }
   const int centre = (scene.side() / 2) * scene.side() + scene.side() / 2;
   r.centre_height = corners[centre].position(d.positions()).z();
+  // Where the time went: the hybrid shell's stages over the run.
+  const chs::HybridStageTimes& t = d.stageTimes();
+  std::printf(
+      "  %s stages [s]: elastic solve %.2f, transfer to grid %.2f, shell forces %.2f, grid update "
+      "%.2f, transfer to particles %.2f, plasticity %.2f\n",
+      r.name.c_str(), t.elastic_solve, t.transfer_to_grid, t.shell_forces, t.grid_update,
+      t.transfer_to_particles, t.plasticity);
+  if (r.steps > 0)
+    std::printf(
+        "  per step: %.2f elastic Newton iterations, %.2f factorisations, %.1f force evaluations "
+        "of the grid solve; %ld elastic solves short of the tolerance\n",
+        double(newton) / r.steps, double(factorizations) / r.steps, double(evaluations) / r.steps,
+        unconverged);
   r.verdict = verdictOf(r, scene, finite);
   return r;
 }

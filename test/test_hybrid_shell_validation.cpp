@@ -25,6 +25,16 @@
 namespace chs {
 namespace {
 
+// The integration the cases run with: the explicit step unless CHS_INTEGRATION names another
+// (ctest runs this file twice: test_hybrid_shell_validation and, with lagrangian_implicit,
+// test_hybrid_shell_validation_lagrangian).
+HybridShellSettings settingsUnderTest() {
+  HybridShellSettings s;
+  if (const char* name = std::getenv("CHS_INTEGRATION"))
+    s.integration = timeIntegrationFromName(name);
+  return s;
+}
+
 using Vec3 = Eigen::Vector3d;
 constexpr double kG = 9.81;
 
@@ -105,7 +115,7 @@ struct SettledTip {
   std::vector<Vec3> centreline;
 };
 SettledTip settledHybridTip(const DrapeProblem& p, double omega, ThicknessRule rule) {
-  HybridShellSettings s;
+  HybridShellSettings s = settingsUnderTest();
   s.damping = 2.0 * omega;
   s.kirchhoff_love.thickness_rule = rule;
   HybridShellDynamics d(p, s);
@@ -269,7 +279,7 @@ InclineRun slideOnIncline(double theta, double mu, double t_end) {
   for (Vec3& x : p.mesh.vertices) x = R * x;  // lying on the plane through the origin
   p.material = testCloth(2e5, 5e-4, 0.2);
   p.gravity = Vec3(0.0, 0.0, -kG);
-  HybridShellDynamics d(p);
+  HybridShellDynamics d(p, settingsUnderTest());
   d.setColliders({std::make_shared<PlaneSurface>(Vec3::Zero(), normal)}, {}, {mu});
   auto centre = [&] {
     Vec3 c = Vec3::Zero();
@@ -313,7 +323,7 @@ double dentResidual(double yield_stress, double depth) {
   constexpr int nx = 8, ny = 2;
   DrapeProblem p = cantilever(tau, 0.3, L, nx, ny);
   p.gravity.setZero();
-  HybridShellSettings s;
+  HybridShellSettings s = settingsUnderTest();
   s.yield_stress = yield_stress;
   const double omega = cantileverOmega(tau, 0.3, L);
   s.damping = 2.0 * omega;
@@ -369,7 +379,7 @@ TEST(HybridShellValidation, ClothOnSphereDoesNotPenetrate) {
   p.mesh = makeRectangleMesh(0.08, 0.08, 8, 8, Vec3(0.0, 0.0, R + 0.005));
   p.material = testCloth(2e5, 5e-4, 0.2);
   p.gravity = Vec3(0.0, 0.0, -kG);
-  HybridShellSettings s;
+  HybridShellSettings s = settingsUnderTest();
   s.friction = 0.3;
   s.damping = 10.0;
   p.colliders = {std::make_shared<SphereSurface>(Vec3::Zero(), R)};
@@ -413,7 +423,7 @@ QuadMesh cylinderMesh(double radius, double length, int n, int m) {
 // `shortening` H (a twisted tube shortens and winds into contact with itself), then held for
 // 0.05 s. Audits the tessellated limit surface every 0.025 s; returns the worst count.
 std::size_t twistTube(double turns, double shortening, int n, int m,
-                      TimeIntegration integration = TimeIntegration::kSymplecticEuler) {
+                      TimeIntegration integration = settingsUnderTest().integration) {
   constexpr double R = 0.02, H = 0.08, T = 0.2, t_end = T + 0.05;
   DrapeProblem p;
   p.mesh = cylinderMesh(R, H, n, m);
@@ -485,7 +495,7 @@ TEST(HybridShellValidation, TwistedTubeStaysFreeOfSelfIntersections) {
         << spec;
     EXPECT_EQ(twistTube(turns, shortening, n, m,
                         std::string(integration) == "backward" ? TimeIntegration::kBackwardEuler
-                                                               : TimeIntegration::kSymplecticEuler),
+                                                               : settingsUnderTest().integration),
               0u);
     return;
   }

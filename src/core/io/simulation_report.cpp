@@ -20,7 +20,6 @@ nlohmann::json vec(const Eigen::Vector3d& v) {
   return {num(v.x()), num(v.y()), num(v.z())};
 }
 
-
 }  // namespace
 
 std::string simulationReportJson(const SimulationScene& scene, const SimulationSummary& s) {

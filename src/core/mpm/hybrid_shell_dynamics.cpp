@@ -57,6 +57,8 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
   positive(s.safety, "time step safety factor");
   if (!(s.rpic_damping >= 0.0 && s.rpic_damping <= 1.0))
     throw InputError("hybrid shell: RPIC damping must lie in [0, 1]");
+  if (!(s.flip_blend >= 0.0 && s.flip_blend <= 1.0))
+    throw InputError("hybrid shell: FLIP blend (Han's xi) must lie in [0, 1]");
   if (!(s.damping >= 0.0 && std::isfinite(s.damping)))
     throw InputError("hybrid shell: damping must be >= 0 and finite");
   if (s.contact_particles_per_edge < 1 || s.contact_particles_per_edge > 8)
@@ -329,12 +331,11 @@ void HybridShellDynamics::solveElasticity(double dt) {
     elastic_force_[p] = -elasticity_->elasticGradient()[p];
   }
   control_.v = lagrangian_velocity_;
-  // The grid sees v* as a plain average (PIC): an affine part from the last step would add a
-  // velocity field the elastic solve never saw.
-  for (auto& C : control_.C) C.setZero();
 }
 
-bool HybridShellDynamics::updateGrid(double dt) { return updateGrid(dt, settings_.integration); }
+bool HybridShellDynamics::updateGrid(double dt) {
+  return updateGrid(dt, settings_.integration);
+}
 
 bool HybridShellDynamics::updateGrid(double dt, TimeIntegration integration) {
   if (integration == TimeIntegration::kLagrangianImplicit) {
@@ -395,7 +396,7 @@ void HybridShellDynamics::transferToGrid() {
   mpm::particleToGrid({&control_, &contact_.p, &solid_}, grid_, settings_.kernel_degree,
                       &supports_);
   std::swap(control_.mass, transfer_mass_);
-  if (lagrangian()) transferred_velocity_ = grid_.velocity;
+  if (lagrangian() && settings_.flip_blend > 0.0) transferred_velocity_ = grid_.velocity;
 }
 
 // Han (5.46)-(5.49) at x* = x_i (symplectic Euler): the forces at the step's start; the solid's
@@ -442,9 +443,9 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   const Vec3 g = with_elasticity ? gravity_ : Vec3::Zero();
   for (const ClampedEdges::Clamp& c : clamps_.clamps()) {
     const double mb = control_.mass[c.boundary], mg = control_.mass[c.ghost];
-    grid_force_[c.interior] += clamps_.foldedForce(c, grid_force_[c.boundary] + mb * g,
-                                                   grid_force_[c.ghost] + mg * g) -
-                               ClampedEdges::carriedMass(mb, mg) * g;
+    grid_force_[c.interior] +=
+        clamps_.foldedForce(c, grid_force_[c.boundary] + mb * g, grid_force_[c.ghost] + mg * g) -
+        ClampedEdges::carriedMass(mb, mg) * g;
     grid_force_[c.boundary].setZero();
     grid_force_[c.ghost].setZero();
   }
@@ -493,8 +494,8 @@ void HybridShellDynamics::carriedVelocity(const std::vector<Vec3>& node_velocity
 // solve: lagging it gives a symmetric linearisation but cohesion artifacts (Han section 5.7),
 // which is why the solve is Newton-GMRES. Denting (5.5.5) is lagged: it changes the stiffness,
 // not the contact.
-void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_velocity,
-                                                 double dt, bool with_elasticity) {
+void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_velocity, double dt,
+                                                 bool with_elasticity) {
   const int deg = settings_.kernel_degree;
   mpm::interpolateNodeField(grid_, node_velocity, control_.x, deg, supports_[0], &trial_shift_,
                             nullptr);
@@ -625,20 +626,19 @@ void HybridShellDynamics::transferToParticles(double dt) {
   mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x,
                                         settings_.kernel_degree, supports_[1], fibre_gradient_);
   std::fill(control_.F.begin(), control_.F.end(), Eigen::Matrix3d::Identity());
-  if (lagrangian())
+  if (lagrangian() && settings_.flip_blend > 0.0)
     mpm::interpolateNodeField(grid_, transferred_velocity_, control_.x, settings_.kernel_degree,
                               supports_[0], &transferred_at_particles_, nullptr);
   mpm::gridToParticle(grid_, control_, settings_.kernel_degree, settings_.rpic_damping, dt,
                       &supports_[0]);
-  if (lagrangian()) {
-    // Han (4.12) with xi = 1: the elastic velocity plus what the grid's contact and obstacles
-    // changed of it. A plain grid velocity (PIC or APIC) would average away the elastic solve's
-    // sub-cell detail and damp the cloth.
+  if (lagrangian() && settings_.flip_blend > 0.0) {
+    // Han (4.12): the grid's velocity, plus xi times what the transfer averaged away of the
+    // elastic velocity (v* + dv_grid = v_grid + (v* - v_transferred)).
+    const double xi = settings_.flip_blend;
     for (int p = 0; p < numVertices(); ++p) {
       const Vec3 x_start = control_.x[p] - dt * control_.v[p];
-      control_.v[p] = lagrangian_velocity_[p] + control_.v[p] - transferred_at_particles_[p];
+      control_.v[p] += xi * (lagrangian_velocity_[p] - transferred_at_particles_[p]);
       control_.x[p] = x_start + dt * control_.v[p];
-      control_.C[p].setZero();
     }
   }
   // Massless contact particles need no velocity: (5.54) places them and the fibres take S v.

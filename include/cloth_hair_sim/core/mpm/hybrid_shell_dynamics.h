@@ -29,7 +29,6 @@
 
 namespace chs {
 
-
 // Resolution and model knobs of the hybrid shell. Zero or negative lengths and stiffnesses
 // mean "derive from the mesh and material" as documented per field.
 struct HybridShellSettings {
@@ -47,11 +46,17 @@ struct HybridShellSettings {
   // the tightest GMRES forcing term (adaptive from 0.5, NewtonKrylovSettings).
   // The Lagrangian implicit step uses the same step length, tolerance and Newton limit for its
   // elastic solve, and keeps its Cholesky factor across iterations and steps while each
-  // iteration still cuts the residual to a quarter (ImplicitElasticitySettings).
+  // iteration still halves the residual (ImplicitElasticitySettings).
   double max_time_step = 1.0 / 240.0;
   double implicit_tolerance = 1e-5;
   int max_newton_iterations = 8;
   bool reuse_factorization = true;
+  // The Lagrangian implicit step's transfer back, Han (4.12): the control points take the grid's
+  // velocity (APIC) plus flip_blend times what the transfer averaged away of their elastic
+  // velocity. 0: layers of one garment that share nodes move together, as MPM's self-contact
+  // needs (the twisted tube); 1: the elastic motion's sub-cell detail is kept, but the layers'
+  // own velocities pass through each other.
+  double flip_blend = 0.0;
   int max_krylov_iterations = 60;
   double krylov_tolerance = 1e-2;
   // Kirchhoff-Love quadrature (type iv): in-plane Gauss points per face edge and the rule
@@ -80,8 +85,8 @@ struct HybridShellSettings {
 
 // Wall time spent in each stage of step(), summed since construction [s].
 struct HybridStageTimes {
-  double elastic_solve = 0.0, transfer_to_grid = 0.0, shell_forces = 0.0, grid_update = 0.0, transfer_to_particles = 0.0,
-         plasticity = 0.0;
+  double elastic_solve = 0.0, transfer_to_grid = 0.0, shell_forces = 0.0, grid_update = 0.0,
+         transfer_to_particles = 0.0, plasticity = 0.0;
   int steps = 0;
 };
 

@@ -12,7 +12,7 @@ namespace chs {
 //    Kirchhoff-Love elasticity and gravity by backward Euler in the control points themselves
 //    (shell/implicit_elasticity.h: assembled projected Hessian, CHOLMOD), then the grid for
 //    contact and friction only (obstacles, the fibres' contact potential, other bodies); the
-//    grid's change of velocity goes back to the control points (FLIP, Han (4.12) with xi = 1).
+//    control points take the grid's velocities back (Han (4.12), HybridShellSettings::flip_blend).
 //    Bounded by CFL only, and the grid solve is trivial where nothing touches.
 enum class TimeIntegration { kSymplecticEuler, kBackwardEuler, kLagrangianImplicit };
 

@@ -25,10 +25,11 @@ struct ImplicitElasticitySettings {
   // with r = m (v - v~) - dt f, is below this [m/s] (the grid backward Euler's measure).
   double tolerance = 1e-5;
   int max_iterations = 8;
-  // Keep the last factorisation (chord Newton) while each iteration still cuts the residual to
-  // below this fraction; refactorise the Hessian when one does not.
+  // Keep the last factorisation, across iterations and steps (chord Newton), while each
+  // iteration still cuts the residual to below this fraction; refactorise the Hessian when one
+  // does not. A factorisation costs as much as ~20 iterations on a stale one.
   bool reuse_factorization = true;
-  double refresh_ratio = 0.25;
+  double refresh_ratio = 0.5;
 };
 
 struct ImplicitElasticityResult {
