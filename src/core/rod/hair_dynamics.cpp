@@ -60,7 +60,7 @@ int HairDynamics::addStrand(const std::vector<Vec3>& rest, const RodMaterial& ma
       throw InputError("hair: strand " + std::to_string(index) + ": " + e.what());
     }
   }();
-  Strand s{std::move(rod)};
+  Strand s(std::move(rod));
   const int nv = s.rod.numVertices();
   s.v.assign(nv, Vec3::Zero());
   s.omega.assign(s.rod.numEdges(), 0.0);
