@@ -8,6 +8,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/rod/discrete_elastic_rod.h"
@@ -254,6 +255,58 @@ TEST(RodElasticity, HelicalRestShapeStaysAtRest) {
       drift, rod.elasticEnergy());
   EXPECT_LT(drift, 1e-12);
   EXPECT_LT(rod.elasticEnergy(), 1e-20);
+}
+
+// Michell's instability (anchors.md): a ring of a naturally straight rod with total twist Phi
+// buckles out of its plane at Phi_c = 2 pi sqrt(3) B / GJ = 2 pi sqrt(3) (1 + nu) for a round
+// section. The twisted circle is an equilibrium for every Phi (by symmetry); it is stable while
+// the Hessian of the energy has no negative eigenvalue beyond the ring's seven zero modes (three
+// translations, three rotations, a uniform turn of the frames). The twist enters as the natural
+// twist -Phi / n of each vertex of the untwisted ring (the energy depends on m - m~ only).
+// Hair's moduli give nu = E / 2G - 1 = 0.966; the section is thickened so that the stretching
+// and bending eigenvalues stay within the eigen-solver's resolution.
+TEST(RodElasticity, MichellTwistedRingInstability) {
+  RodMaterial m = humanHair();
+  m.radius_1 = 1e-3;
+  const double L = 0.2;
+  const int n = 80;
+  std::vector<Vec3> ring(n);
+  const double R = L / (2 * M_PI);
+  for (int i = 0; i < n; ++i)
+    ring[i] = R * Vec3(std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0.0);
+  DiscreteElasticRod rod(ring, m, Vec3::UnitZ(), true);
+  const std::vector<Eigen::Vector2d> straight(n, Eigen::Vector2d::Zero());
+  // The polygon's own equilibrium radius (bending pulls it in against its stretching).
+  rod.setNaturalShape(straight, std::vector<double>(n, 0.0));
+  StrandNewtonSettings s;
+  s.max_iterations = 50;
+  const StrandNewtonResult relaxed = solveStrand(rod, StrandLoads{}, s);
+  EXPECT_TRUE(relaxed.converged);
+  const double scale = m.bendingStiffness1() / (L * L * L);
+  const auto lowest = [&](double phi) {
+    rod.setNaturalShape(straight, std::vector<double>(n, -phi / n));
+    std::vector<Eigen::Triplet<double>> t;
+    rod.addElasticDerivatives(nullptr, &t, false);
+    Eigen::SparseMatrix<double> H(rod.numDofs(), rod.numDofs());
+    H.setFromTriplets(t.begin(), t.end());
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Eigen::MatrixXd(H), Eigen::EigenvaluesOnly);
+    return es.eigenvalues()[0] / scale;
+  };
+  const double threshold = -1e-6;
+  EXPECT_GT(lowest(0.0), threshold);
+  const double reference = 2 * M_PI * std::sqrt(3.0) * (1.0 + m.poissonRatio());
+  double lo = 0.0, hi = 2.0 * reference;
+  ASSERT_LT(lowest(hi), threshold);
+  for (int it = 0; it < 24; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (lowest(mid) < threshold ? hi : lo) = mid;
+  }
+  const double critical = 0.5 * (lo + hi);
+  std::printf(
+      "Michell ring (n = %d, nu = %.3f): critical twist %.4f rad, 2 pi sqrt(3) (1 + nu) = "
+      "%.4f rad, error %.2f %%\n",
+      n, m.poissonRatio(), critical, reference, 100.0 * (critical / reference - 1.0));
+  EXPECT_NEAR(critical, reference, 0.02 * reference);
 }
 
 TEST(RodElasticity, BadInputIsRefused) {

@@ -181,7 +181,9 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   const auto retract = [&](const Eigen::VectorXd& x) {
     Eigen::VectorXd r = x;
     for (int j = 0; j < rod.numEdges(); ++j) {
-      const int a = DiscreteElasticRod::vertexDof(j), b = DiscreteElasticRod::vertexDof(j + 1);
+      if (rod.edgeEnd(j) == 0) continue;  // a ring's closing edge
+      const int a = DiscreteElasticRod::vertexDof(j),
+                b = DiscreteElasticRod::vertexDof(rod.edgeEnd(j));
       const Vec3 e = x.segment<3>(b) - x.segment<3>(a);
       if (held(b) || e.norm() == 0.0) continue;
       r.segment<3>(b) = r.segment<3>(a) + lengths[j] * e.normalized();
@@ -192,7 +194,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   Eigen::VectorXd dq;
   for (result.iterations = 0; result.iterations < settings.max_iterations; ++result.iterations) {
     for (int j = 0; j < rod.numEdges(); ++j)
-      lengths[j] = (q.segment<3>(DiscreteElasticRod::vertexDof(j + 1)) -
+      lengths[j] = (q.segment<3>(DiscreteElasticRod::vertexDof(rod.edgeEnd(j))) -
                     q.segment<3>(DiscreteElasticRod::vertexDof(j)))
                        .norm();
     if (!newtonStep(false, dq) && !newtonStep(true, dq)) break;

@@ -35,14 +35,24 @@ class DiscreteElasticRod {
   // Rest (and initial) centreline; first_director: the material frame's m1 on the first edge
   // at rest (projected normal to it; zero: any normal). The rest frames are the first edge's
   // transported along the curve (space-parallel transport, zero rest reference twist).
-  // Throws InputError for fewer than two vertices, a non-finite vertex, a segment shorter than
-  // 1e-9 m (duplicate vertices), a segment folded back onto its neighbour, or a bad material.
+  // closed: a ring, its last edge from the last vertex back to the first, every vertex bending
+  // and twisting (4n unknowns for n vertices); the rest frames' holonomy round the ring is its
+  // rest twist at vertex 0. Throws InputError for fewer than two vertices (three for a ring), a
+  // non-finite vertex, a segment shorter than 1e-9 m (duplicate vertices), a segment folded
+  // back onto its neighbour, or a bad material.
   DiscreteElasticRod(const std::vector<Eigen::Vector3d>& rest, const RodMaterial& material,
-                     const Eigen::Vector3d& first_director = Eigen::Vector3d::Zero());
+                     const Eigen::Vector3d& first_director = Eigen::Vector3d::Zero(),
+                     bool closed = false);
 
+  bool closed() const { return closed_; }
   int numVertices() const { return static_cast<int>(x_.size()); }
-  int numEdges() const { return numVertices() - 1; }
-  int numDofs() const { return 4 * numEdges() + 3; }
+  int numEdges() const { return closed_ ? numVertices() : numVertices() - 1; }
+  int numDofs() const { return 4 * numEdges() + (closed_ ? 0 : 3); }
+  int edgeEnd(int j) const { return j + 1 < numVertices() ? j + 1 : 0; }
+  // The vertices that bend and twist: 1..n-2 of a strand, all of a ring.
+  int firstBendingVertex() const { return closed_ ? 0 : 1; }
+  int endBendingVertex() const { return closed_ ? numVertices() : numVertices() - 1; }
+  int previousEdge(int i) const { return i > 0 ? i - 1 : numEdges() - 1; }
   static int vertexDof(int i) { return 4 * i; }
   static int angleDof(int j) { return 4 * j + 3; }
 
@@ -58,9 +68,14 @@ class DiscreteElasticRod {
   double length() const;  // rest length of the strand
   double vertexMass(int i) const { return vertex_mass_[i]; }
   double angleInertia(int j) const { return angle_inertia_[j]; }
-  // Material curvature (kappa_1, kappa_2) and twist m at interior vertex i (1..n-1), now.
+  // Material curvature (kappa_1, kappa_2) and twist m at bending vertex i, now.
   Eigen::Vector2d curvature(int i) const;
   double twist(int i) const;
+  // Replaces the natural curvature and twist the rest shape gave (one value per vertex; those of
+  // a strand's end vertices are ignored): a ring of a naturally straight rod, or a twist
+  // imposed on it. Throws InputError for sizes that do not match or non-finite values.
+  void setNaturalShape(const std::vector<Eigen::Vector2d>& curvature,
+                       const std::vector<double>& twist);
 
   Eigen::VectorXd configuration() const;
   // Moves the rod to q (numDofs() values): reference frames transported from the committed
@@ -82,6 +97,7 @@ class DiscreteElasticRod {
   void updateFrames();  // tangents, reference and material frames, curvature binormals
 
   RodMaterial material_;
+  bool closed_ = false;
   double stretch_ = 0.0, bend_1_ = 0.0, bend_2_ = 0.0, twist_stiffness_ = 0.0;
   std::vector<double> rest_length_, voronoi_, vertex_mass_, angle_inertia_;
   std::vector<Eigen::Vector2d> rest_kappa_;
