@@ -7,6 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 
 #include "cloth_hair_sim/core/common/input_error.h"
@@ -93,7 +94,9 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   rod.commit();
   Eigen::VectorXd g(n);
   Triplets triplets;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  // Natural ordering: the unknowns are already in band order (no fill outside the band).
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
+      ldlt;
   // The Newton matrix: the true Hessian where it is positive definite (quadratic convergence
   // near a stable equilibrium), else the element-wise projected one (a descent direction).
   const auto newtonStep = [&](bool project, Eigen::VectorXd& dq) {
