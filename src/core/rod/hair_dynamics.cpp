@@ -136,12 +136,24 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
   loads.dt = dt;
   loads.gravity = settings_.gravity;
   loads.vertex_forces = s.force;
-  Eigen::VectorXd q = s.q_start;
+  // Newton starts from the inertial target x^n + dt v^n (for a strand in motion much closer to
+  // the step's end than x^n), its edges turned as the target turns them but kept at their
+  // lengths at x^n (a straight extrapolation of a turning strand stretches it, which its stiff
+  // stretching would take several Newton iterations to undo).
+  Eigen::VectorXd q = target;
   if (s.clamped) {
     loads.held.assign(rod.numDofs(), 0);
     std::fill(loads.held.begin(), loads.held.begin() + 7, 1);
     q.segment<3>(0) = s.pose * s.root_x0;
     q.segment<3>(4) = s.pose * s.root_x1;
+  }
+  for (int j = s.clamped ? 1 : 0; j < rod.numEdges(); ++j) {
+    const int a = DiscreteElasticRod::vertexDof(j), b = DiscreteElasticRod::vertexDof(j + 1);
+    const double length = (s.q_start.segment<3>(b) - s.q_start.segment<3>(a)).norm();
+    const Vec3 e = target.segment<3>(b) - target.segment<3>(a);
+    if (e.norm() > 0.0) q.segment<3>(b) = q.segment<3>(a) + length * e.normalized();
+  }
+  if (s.clamped) {
     rod.setConfiguration(q);
     // The first angle turns the (transported) reference director onto the clamp's director,
     // unwrapped to the nearest turn of the last angle.
