@@ -192,6 +192,19 @@ void HairDynamics::beginStep(double dt) {
 // Han (4.8)-(4.9).
 void HairDynamics::transferToGrid() {
   mpm::particleToGrid({&particles_}, grid_, settings_.kernel_degree, &supports_);
+  // A vertex just inside a node's support gives it a mass of order w^2 m (1e-23 kg for hair a
+  // hair's breadth inside): such a node carries nothing the strand could feel, but in the
+  // contact with another body's field (world/field_contact.h) its velocity is the ratio of two
+  // vanishing numbers. Nodes below 1e-9 of the heaviest vertex are dropped from the field (their
+  // change of velocity, and so their effect on the vertices, is zero).
+  double m_max = 0.0;
+  for (double m : particles_.mass) m_max = std::max(m_max, m);
+  for (int i = 0; i < grid_.size(); ++i)
+    if (grid_.mass[i] < 1e-9 * m_max) {
+      grid_.mass[i] = 0.0;
+      grid_.momentum[i].setZero();
+      grid_.velocity[i].setZero();
+    }
   grid_v_star_ = grid_.velocity;
 }
 
