@@ -4,7 +4,8 @@
 // real hair (E = 3.5 GPa, r = 40 um) steps stably at 1/240 s and 1/60 s, clamps follow a moving
 // root frame, a curl stays at rest and
 // sags to its static equilibrium under gravity, a strand rests on a garment of the same world,
-// snapshots restore, and bad input is refused.
+// snapshots restore, the clamp carries the strand's weight and moment,
+// and bad input is refused.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -308,6 +309,30 @@ TEST(HairWorld, CurlSagsToStaticEquilibrium) {
       worst, sag, std::sqrt(2.0 * w->hair->kineticEnergy() / w->hair->totalMass()));
   EXPECT_GT(sag, 1e-3);
   EXPECT_LT(worst, 1e-3 * sag);
+}
+
+// The clamp feels the strand: a 5 cm hair clamped horizontally, settled in the world (1 s at
+// 1/60 s), is held by a force equal to its weight and a moment that balances its weight's
+// moment about the root, sum (x_i - x_0) x m_i g, from the positions it hangs in.
+TEST(HairWorld, ClampCarriesTheStrandsWeight) {
+  auto w = hairWorld(settings());
+  const int s = w->hair->addStrand(straightStrand(Vec3(0.02, 0.02, 0.1), Vec3::UnitX(), 0.05, 20),
+                                   humanHair(), true);
+  for (int step = 0; step < 60; ++step) w->world.step(1.0 / 60.0);
+  const HoldingWrench h = w->hair->clampWrench(s);
+  const DiscreteElasticRod& rod = w->hair->strand(s);
+  const Vec3 g(0, 0, -kG);
+  Vec3 moment = Vec3::Zero();
+  for (int i = 0; i < rod.numVertices(); ++i)
+    moment += (rod.positions()[i] - rod.positions()[0]).cross(rod.vertexMass(i) * g);
+  const Vec3 weight = -w->hair->totalMass() * g;
+  std::printf(
+      "clamp of a hanging hair: force (%.4e, %.4e, %.4e) N against its weight %.4e N; "
+      "moment (%.4e, %.4e, %.4e) N m against %.4e N m\n",
+      h.force.x(), h.force.y(), h.force.z(), weight.z(), h.torque.x(), h.torque.y(), h.torque.z(),
+      -moment.y());
+  EXPECT_LT((h.force - weight).norm(), 1e-6 * weight.norm());
+  EXPECT_LT((h.torque + moment).norm(), 1e-6 * moment.norm());
 }
 
 TEST(HairWorld, SnapshotRestores) {

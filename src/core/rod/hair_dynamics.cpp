@@ -101,6 +101,11 @@ void HairDynamics::setRootFrame(int s, const Eigen::Isometry3d& pose) {
   strands_[s].pose = pose;
 }
 
+HoldingWrench HairDynamics::clampWrench(int s) const {
+  checkStrand(s);
+  return strands_[s].clamp;
+}
+
 void HairDynamics::setVertexForce(int s, int vertex, const Vec3& force) {
   checkStrand(s);
   if (vertex < 0 || vertex >= strands_[s].rod.numVertices())
@@ -166,6 +171,14 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
   loads.inertial_target = target;
   result = solveStrand(rod, loads, settings_.newton);
   const Eigen::VectorXd q_new = rod.configuration();
+  if (s.clamped) {
+    // The reactions on the held unknowns: forces on x_0 and x_1, the moment about the first
+    // edge on its angle.
+    const Eigen::VectorXd& r = result.held_reaction;
+    const Vec3 f1 = r.segment<3>(4);
+    s.clamp.force = r.segment<3>(0) + f1;
+    s.clamp.torque = (q_new.segment<3>(4) - q_new.segment<3>(0)).cross(f1) + r[3] * rod.tangent(0);
+  }
   for (int i = 0; i < rod.numVertices(); ++i) {
     const int k = DiscreteElasticRod::vertexDof(i);
     particles_.x[s.offset + i] = s.q_start.segment<3>(k);

@@ -99,25 +99,33 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       ldlt;
   // The Newton matrix: the true Hessian where it is positive definite (quadratic convergence
   // near a stable equilibrium), else the element-wise projected one (a descent direction).
+  // The gradient of Phi's terms besides the elasticity, at q.
+  const auto addLoadGradient = [&](Eigen::VectorXd& grad) {
+    for (int k = 0; k < n && dynamic; ++k)
+      grad[k] += inv_dt2 * mass[k] * (q[k] - loads.inertial_target[k]);
+    for (int i = 0; i < nv; ++i) {
+      Vec3 f = rod.vertexMass(i) * loads.gravity;
+      if (!loads.vertex_forces.empty()) f += loads.vertex_forces[i];
+      grad.segment<3>(DiscreteElasticRod::vertexDof(i)) -= f;
+    }
+    if (loads.tip_moment != 0.0) {
+      const Vec3 e = q.segment<3>(tip) - q.segment<3>(before_tip);
+      const Vec3 dphi = axis.cross(e) / planar(q).squaredNorm();
+      grad.segment<3>(tip) -= loads.tip_moment * dphi;
+      grad.segment<3>(before_tip) += loads.tip_moment * dphi;
+    }
+  };
   const auto newtonStep = [&](bool project, Eigen::VectorXd& dq) {
     g.setZero();
     triplets.clear();
     rod.addElasticDerivatives(&g, &triplets, project);
-    for (int k = 0; k < n && dynamic; ++k) {
-      g[k] += inv_dt2 * mass[k] * (q[k] - loads.inertial_target[k]);
-      triplets.emplace_back(k, k, inv_dt2 * mass[k]);
-    }
-    for (int i = 0; i < nv; ++i) {
-      Vec3 f = rod.vertexMass(i) * loads.gravity;
-      if (!loads.vertex_forces.empty()) f += loads.vertex_forces[i];
-      g.segment<3>(DiscreteElasticRod::vertexDof(i)) -= f;
-    }
+    addLoadGradient(g);
+    for (int k = 0; k < n && dynamic; ++k) triplets.emplace_back(k, k, inv_dt2 * mass[k]);
     if (loads.tip_moment != 0.0) {
       // phi = atan2 in the plane normal to the axis: d phi / de = a x e / |e_p|^2, and its
       // Hessian [a]x / |e_p|^2 - 2 (a x e) e_p^T / |e_p|^4 (symmetric).
       const Vec3 e = q.segment<3>(tip) - q.segment<3>(before_tip), ep = planar(q);
       const double r2 = ep.squaredNorm();
-      const Vec3 dphi = axis.cross(e) / r2;
       Mat3 h = -loads.tip_moment *
                (crossMatrix(axis) / r2 - 2.0 * axis.cross(e) * ep.transpose() / (r2 * r2));
       h = 0.5 * (h + h.transpose());
@@ -126,8 +134,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
         h = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
             es.eigenvectors().transpose();
       }
-      g.segment<3>(tip) -= loads.tip_moment * dphi;
-      g.segment<3>(before_tip) += loads.tip_moment * dphi;
+
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) {
           triplets.emplace_back(tip + r, tip + c, h(r, c));
@@ -237,6 +244,14 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
     }
   }
   if (tip_angle) *tip_angle = phi_now;
+  if (!loads.held.empty()) {
+    Eigen::VectorXd full = Eigen::VectorXd::Zero(n);
+    rod.addElasticDerivatives(&full, nullptr, false);
+    addLoadGradient(full);
+    result.held_reaction = Eigen::VectorXd::Zero(n);
+    for (int k = 0; k < n; ++k)
+      if (held(k)) result.held_reaction[k] = full[k];
+  }
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "cloth_hair_sim/core/dynamics/holding_wrench.h"
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 #include "cloth_hair_sim/core/mpm/mpm_particles.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
@@ -79,6 +80,10 @@ class HairDynamics : public Body {
   // The rigid motion from the strand's root as added to where its clamp should be: the clamp
   // moves there at constant velocity over the next step (a scalp on a moving head link).
   void setRootFrame(int s, const Eigen::Isometry3d& pose);
+  // Force and moment about the root vertex that strand s's clamp applied to it in the last step
+  // (zero for a free strand): what a scalp or a gripper holding the root feels, reversed. From
+  // the implicit update, where the clamp acts; the grid stages do not touch clamped vertices.
+  HoldingWrench clampWrench(int s) const;
   // An applied force [N] on one vertex, kept until changed.
   void setVertexForce(int s, int vertex, const Eigen::Vector3d& force);
   void setGravity(const Eigen::Vector3d& gravity);
@@ -123,7 +128,8 @@ class HairDynamics : public Body {
     // The clamp in the frame it was added in: x_0, x_1 and the first material director.
     Eigen::Vector3d root_x0, root_x1, root_m1;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    int offset = 0;  // first vertex among the particles
+    HoldingWrench clamp;  // last step's, about the root vertex
+    int offset = 0;       // first vertex among the particles
     // This step: step-start configuration and the clamp's targets.
     Eigen::VectorXd q_start;
   };

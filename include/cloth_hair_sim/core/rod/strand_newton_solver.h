@@ -37,6 +37,10 @@ struct StrandNewtonResult {
   bool converged = false;
   int iterations = 0;
   double step = 0.0;  // the last Newton step's size, relative as in the tolerance
+  // dPhi/dq at the end on the held unknowns (zero elsewhere; empty when none is held): the
+  // generalised force the holding applies to the strand there (N on a position, N m about the
+  // edge on an angle), the held vertices' own weight and acceleration included.
+  Eigen::VectorXd held_reaction;
 };
 
 // Newton's method with the assembled sparse (banded) Hessian of Phi, each element's block made
