@@ -1,0 +1,103 @@
+// Hair benchmarks (run by hand, never by ctest): a head of hair, N strands of 24 segments (10 cm
+// human hair, clamped on the upper half of a 9 cm sphere that is also their collider, leaving it
+// along the normal and falling onto it under gravity), stepped as the one body of a World at
+// 1/120 s (two steps per 1/60 s frame; the CFL bound of a 1 cm grid allows it here). Each
+// iteration is one frame; the counters split it into the body's stages (rod solve = beginStep,
+// the implicit Newton per strand; to grid; grid = obstacles' conditions; from grid incl. the
+// vertices' Coulomb impulses) and give segment-frames per core-second, Han's figure for his
+// hair ball being about 790 (1.92 M segments at 122 s per frame on 20 threads).
+//
+// Arguments: {strands, TBB threads}.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include "bench_machine.h"
+#include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/rod/hair_dynamics.h"
+#include "cloth_hair_sim/core/rod/strand_shapes.h"
+#include "cloth_hair_sim/core/world/world.h"
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+constexpr double kHead = 0.09;  // scalp radius [m]
+constexpr int kSegments = 24;
+
+// Roots on the upper hemisphere, spread by the golden angle.
+std::shared_ptr<chs::rod::HairDynamics> headOfHair(int strands) {
+  chs::rod::HairSettings s;
+  s.grid_spacing = 0.01;
+  auto hair = std::make_shared<chs::rod::HairDynamics>(s);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < strands; ++k) {
+    const double z = 1.0 - (k + 0.5) / strands, r = std::sqrt(1.0 - z * z);
+    const Vec3 n(r * std::cos(golden * k), r * std::sin(golden * k), z);
+    hair->addStrand(chs::rod::straightStrand(kHead * n, n, 0.1, kSegments), chs::rod::humanHair());
+  }
+  return hair;
+}
+
+void hairFrame(benchmark::State& state) {
+  const int strands = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
+  chs::WorldSettings ws;
+  ws.grid_spacing = 0.01;
+  chs::World world(ws);
+  auto hair = headOfHair(strands);
+  world.add("hair", hair);
+  world.setColliders({std::make_shared<chs::SphereSurface>(Vec3::Zero(), kHead)});
+  const double dt = 1.0 / 120.0;
+  for (int i = 0; i < 30; ++i) world.step(dt);  // the hair falls onto the head
+  double t_solve = 0.0, t_to = 0.0, t_grid = 0.0, t_from = 0.0;
+  int frames = 0, newton = 0;
+  for (auto _ : state) {
+    for (int sub = 0; sub < 2; ++sub) {
+      // The world's stages for its one body (no contact between fields).
+      auto t = chs::bench::Clock::now();
+      hair->beginStep(dt);
+      t_solve += chs::bench::secondsSince(t);
+      t = chs::bench::Clock::now();
+      hair->transferToGrid();
+      t_to += chs::bench::secondsSince(t);
+      t = chs::bench::Clock::now();
+      hair->updateGrid(dt);
+      t_grid += chs::bench::secondsSince(t);
+      t = chs::bench::Clock::now();
+      hair->transferFromGrid(dt);
+      hair->endStep(dt);
+      t_from += chs::bench::secondsSince(t);
+      newton = std::max(newton, hair->lastNewtonIterations());
+    }
+    ++frames;
+  }
+  const double wall = t_solve + t_to + t_grid + t_from;
+  state.counters["ms_frame"] = 1e3 * wall / frames;
+  state.counters["ms_rod_solve"] = 1e3 * t_solve / frames;
+  state.counters["ms_to_grid"] = 1e3 * t_to / frames;
+  state.counters["ms_grid"] = 1e3 * t_grid / frames;
+  state.counters["ms_from_grid"] = 1e3 * t_from / frames;
+  state.counters["seg_frames_per_core_s"] =
+      static_cast<double>(strands) * kSegments * frames / (wall * threads);
+  state.counters["max_newton"] = newton;
+}
+BENCHMARK(hairFrame)
+    ->Args({100, 1})
+    ->Args({100, 2})
+    ->Args({1000, 1})
+    ->Args({1000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  chs::bench::printMachine(2);
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  return 0;
+}

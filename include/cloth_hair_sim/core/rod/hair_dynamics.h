@@ -1,0 +1,154 @@
+#pragma once
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "cloth_hair_sim/core/dynamics/holding_wrench.h"
+#include "cloth_hair_sim/core/mpm/grid_collider.h"
+#include "cloth_hair_sim/core/mpm/mpm_particles.h"
+#include "cloth_hair_sim/core/mpm/sparse_grid.h"
+#include "cloth_hair_sim/core/mpm/support_nodes.h"
+#include "cloth_hair_sim/core/rod/discrete_elastic_rod.h"
+#include "cloth_hair_sim/core/rod/rod_material.h"
+#include "cloth_hair_sim/core/rod/strand_newton_solver.h"
+#include "cloth_hair_sim/core/world/body.h"
+
+namespace chs::rod {
+
+struct HairSettings {
+  double grid_spacing = 0.01;  // dx [m]: the world's
+  int kernel_degree = 2;       // the world's
+  // xi of Han (4.12): the share of the grid's velocity (PIC) in the vertices' new velocity; the
+  // rest is the Lagrangian velocity plus the grid's change (FLIP). Han uses 0.95, but a strand
+  // whose segments are shorter than dx then loses to the grid's averaging the corrections its
+  // stiff stretching makes along it: a 10 cm hair (2.5 mm segments, dx = 1 cm) swinging at
+  // 1/240 s stretched by 1.8 % with xi = 0.95 (test_rod_world). 0: the grid only adds its change.
+  double pic_blend = 0.0;
+  Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  // Obstacles: boundary condition (grid_collider.h) and default Coulomb mu.
+  mpm::ColliderBoundary boundary = mpm::ColliderBoundary::kSeparating;
+  double friction = 0.3;
+  // stableTimeStep(): min(max_time_step, cfl dx / fastest vertex). The implicit elasticity sets
+  // no bound of its own.
+  double cfl = 0.5;
+  double max_time_step = 1.0 / 120.0;
+  StrandNewtonSettings newton;  // each strand's implicit solve per step
+  int max_vertices = 1000000;   // over all strands; more is refused (memory, a typo in a groom)
+};
+
+// Hair as a body of the world (world/body.h), Han section 4.2 with the strands as discrete
+// elastic rods (discrete_elastic_rod.h). A step's stages:
+//   beginStep        the Lagrangian update (4.7), done implicitly: per strand, backward Euler on
+//                    the incremental potential (strand_newton_solver.h) with the rod's
+//                    elasticity, gravity and the applied vertex forces, roots clamped; gives the
+//                    vertices' velocities v* = (x - x^n) / dt.
+//   transferToGrid   APIC transfer of the vertices' mass and momentum m v* to the field (4.8-4.9)
+//                    from their step-start positions; clamped vertices carry no mass there (the
+//                    scalp's motion is a boundary condition, not momentum).
+//   updateGrid       the obstacles' Coulomb conditions on the nodes inside them (grid_collider.h).
+//   [world]          contact with other bodies' fields (world/field_contact.h).
+//   transferFromGrid the change of grid velocity back to the vertices, blended with xi (4.12);
+//                    then each vertex that ends inside an obstacle gets the same Coulomb
+//                    projection as an impulse (as the shell's control points do), and positions
+//                    move, x^{n+1} = x^n + dt v^{n+1} (4.13); the rod's frames are transported
+//                    there.
+// Gravity acts in the Lagrangian update rather than on the grid as in Han (4.10): a stiff strand
+// solved implicitly without it would spring back each step from the sag the grid's gravity gave
+// it, and the hanging shape would lag by dt^2 g.
+// Not yet: the Hencky friction elastoplasticity between strands on the grid (4.3-4.6, 4.10-4.11)
+// and the geometric strand-strand impulses (4.13); strands of this body do not collide with each
+// other (other bodies' fields they meet through the world).
+class HairDynamics : public Body {
+ public:
+  // Throws InputError for a bad setting.
+  explicit HairDynamics(const HairSettings& settings = {});
+
+  // Adds a strand whose rest shape is `rest` (also its initial shape), at rest. clamped: its
+  // root vertex, first edge and first material frame are held to the strand's root frame
+  // (identity now, setRootFrame moves it). Returns its index. Throws InputError (nothing
+  // added) for a bad strand or material (DiscreteElasticRod) or beyond max_vertices.
+  int addStrand(const std::vector<Eigen::Vector3d>& rest, const RodMaterial& material,
+                bool clamped = true,
+                const Eigen::Vector3d& first_director = Eigen::Vector3d::Zero());
+  int numStrands() const { return static_cast<int>(strands_.size()); }
+  const DiscreteElasticRod& strand(int s) const { return strands_[s].rod; }
+  const std::vector<Eigen::Vector3d>& velocities(int s) const { return strands_[s].v; }
+  void setVelocities(int s, const std::vector<Eigen::Vector3d>& v);
+  // The rigid motion from the strand's root as added to where its clamp should be: the clamp
+  // moves there at constant velocity over the next step (a scalp on a moving head link).
+  void setRootFrame(int s, const Eigen::Isometry3d& pose);
+  // Force and moment about the root vertex that strand s's clamp applied to it in the last step
+  // (zero for a free strand): what a scalp or a gripper holding the root feels, reversed. From
+  // the implicit update, where the clamp acts; the grid stages do not touch clamped vertices.
+  HoldingWrench clampWrench(int s) const;
+  // An applied force [N] on one vertex, kept until changed.
+  void setVertexForce(int s, int vertex, const Eigen::Vector3d& force);
+  void setGravity(const Eigen::Vector3d& gravity);
+  const HairSettings& settings() const { return settings_; }
+  double totalMass() const;
+  double time() const { return time_; }
+  // Newton iterations of the slowest strand in the last step.
+  int lastNewtonIterations() const { return last_iterations_; }
+
+  // Body stages.
+  void beginStep(double dt) override;
+  void transferToGrid() override;
+  bool updateGrid(double dt) override;
+  void reapplyColliders() override;
+  void transferFromGrid(double dt) override;
+  void endStep(double dt) override;
+  mpm::SparseGrid& field() override { return grid_; }
+  std::vector<mpm::MassCarriers> fieldCarriers() const override;
+  void fieldNormals(std::vector<Eigen::Vector3d>& normals) const override { normals.clear(); }
+  int kernelDegree() const override { return settings_.kernel_degree; }
+  double stableTimeStep() const override;
+  Eigen::Vector3d linearMomentum() const override;
+  double kineticEnergy() const override;  // vertices' translation and edges' spin
+  bool finite() const override;
+  void setColliders(const RigidSurfaces& colliders,
+                    const std::vector<SurfaceVelocity>& velocities = {},
+                    const std::vector<double>& frictions = {}) override;
+  const std::vector<mpm::ColliderImpulse>& colliderImpulses() const override {
+    return collider_impulse_;
+  }
+  std::unique_ptr<DynamicsSnapshot> snapshot() const override;
+  void restore(const DynamicsSnapshot& snapshot) override;
+
+ private:
+  struct Strand {
+    explicit Strand(DiscreteElasticRod r) : rod(std::move(r)) {}
+    DiscreteElasticRod rod;
+    std::vector<Eigen::Vector3d> v;  // vertex velocities
+    std::vector<double> omega;       // edge angle rates
+    std::vector<Eigen::Vector3d> force;
+    bool clamped = true;
+    // The clamp in the frame it was added in: x_0, x_1 and the first material director.
+    Eigen::Vector3d root_x0, root_x1, root_m1;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    HoldingWrench clamp;  // last step's, about the root vertex
+    int offset = 0;       // first vertex among the particles
+    // This step: step-start configuration and the clamp's targets.
+    Eigen::VectorXd q_start;
+  };
+  void checkStrand(int s) const;
+  void solveStrandStep(Strand& strand, double dt, StrandNewtonResult& result);
+
+  HairSettings settings_;
+  std::vector<Strand> strands_;
+  mpm::Particles particles_;  // every strand's vertices; mass: what the grid sees
+  mpm::SparseGrid grid_;
+  std::vector<mpm::SupportNodes> supports_;
+  std::vector<Eigen::Vector3d> grid_v_star_, grid_dv_, dv_p_;
+  mpm::Particles scratch_;
+  RigidSurfaces surfaces_;
+  std::vector<mpm::GridCollider> colliders_;
+  std::vector<mpm::ColliderImpulse> collider_impulse_;
+  bool converged_ = true;
+  int last_iterations_ = 0;
+  double time_ = 0.0;
+};
+
+}  // namespace chs::rod

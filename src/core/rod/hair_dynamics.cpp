@@ -1,0 +1,393 @@
+#include "cloth_hair_sim/core/rod/hair_dynamics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/mpm/grid_interpolation.h"
+#include "cloth_hair_sim/core/mpm/transfers.h"
+#include "cloth_hair_sim/core/rod/parallel_transport.h"
+
+namespace chs::rod {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+struct HairSnapshot : DynamicsSnapshot {
+  std::vector<DiscreteElasticRod> rods;
+  std::vector<std::vector<Vec3>> v;
+  std::vector<std::vector<double>> omega;
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<Eigen::Matrix3d> C;
+  double time = 0.0;
+};
+
+}  // namespace
+
+HairDynamics::HairDynamics(const HairSettings& settings)
+    : settings_(settings), grid_(settings.grid_spacing) {
+  if (!(settings.grid_spacing > 0.0 && std::isfinite(settings.grid_spacing)))
+    throw InputError("hair: grid_spacing must be positive and finite");
+  if (settings.kernel_degree != 2 && settings.kernel_degree != 3)
+    throw InputError("hair: kernel_degree must be 2 or 3");
+  if (!(settings.pic_blend >= 0.0 && settings.pic_blend <= 1.0))
+    throw InputError("hair: pic_blend (xi) must lie in [0, 1]");
+  if (!settings.gravity.allFinite()) throw InputError("hair: gravity must be finite");
+  if (!(settings.friction >= 0.0 && std::isfinite(settings.friction)))
+    throw InputError("hair: friction must be >= 0 and finite");
+  if (!(settings.cfl > 0.0 && settings.cfl <= 1.0))
+    throw InputError("hair: cfl must lie in (0, 1]");
+  if (!(settings.max_time_step > 0.0 && std::isfinite(settings.max_time_step)))
+    throw InputError("hair: max_time_step must be positive and finite");
+  if (!(settings.newton.tolerance > 0.0) || settings.newton.max_iterations < 1)
+    throw InputError("hair: Newton tolerance must be positive, iterations at least 1");
+}
+
+int HairDynamics::addStrand(const std::vector<Vec3>& rest, const RodMaterial& material,
+                            bool clamped, const Vec3& first_director) {
+  const int index = numStrands();
+  if (particles_.size() + static_cast<int>(rest.size()) > settings_.max_vertices)
+    throw InputError("hair: strand " + std::to_string(index) + " would bring the vertices to " +
+                     std::to_string(particles_.size() + rest.size()) + ", over max_vertices " +
+                     std::to_string(settings_.max_vertices));
+  DiscreteElasticRod rod = [&] {
+    try {
+      return DiscreteElasticRod(rest, material, first_director);
+    } catch (const InputError& e) {
+      throw InputError("hair: strand " + std::to_string(index) + ": " + e.what());
+    }
+  }();
+  Strand s(std::move(rod));
+  const int nv = s.rod.numVertices();
+  s.v.assign(nv, Vec3::Zero());
+  s.omega.assign(s.rod.numEdges(), 0.0);
+  s.force.assign(nv, Vec3::Zero());
+  s.clamped = clamped;
+  s.root_x0 = rest[0];
+  s.root_x1 = rest[1];
+  s.root_m1 = s.rod.materialDirector1(0);
+  s.offset = particles_.size();
+  for (int i = 0; i < nv; ++i) {
+    const bool held = clamped && i < 2;
+    particles_.add(rest[i], Vec3::Zero(), held ? 0.0 : s.rod.vertexMass(i), 0.0);
+  }
+  strands_.push_back(std::move(s));
+  return index;
+}
+
+void HairDynamics::checkStrand(int s) const {
+  if (s < 0 || s >= numStrands())
+    throw InputError("hair: no strand " + std::to_string(s) + " (" + std::to_string(numStrands()) +
+                     " strands)");
+}
+
+void HairDynamics::setVelocities(int s, const std::vector<Vec3>& v) {
+  checkStrand(s);
+  if (static_cast<int>(v.size()) != strands_[s].rod.numVertices())
+    throw InputError("hair: " + std::to_string(v.size()) + " velocities for strand " +
+                     std::to_string(s) + " of " + std::to_string(strands_[s].rod.numVertices()) +
+                     " vertices");
+  for (const Vec3& u : v)
+    if (!u.allFinite()) throw InputError("hair: velocities must be finite");
+  strands_[s].v = v;
+}
+
+void HairDynamics::setRootFrame(int s, const Eigen::Isometry3d& pose) {
+  checkStrand(s);
+  if (!pose.matrix().allFinite()) throw InputError("hair: root frame must be finite");
+  strands_[s].pose = pose;
+}
+
+HoldingWrench HairDynamics::clampWrench(int s) const {
+  checkStrand(s);
+  return strands_[s].clamp;
+}
+
+void HairDynamics::setVertexForce(int s, int vertex, const Vec3& force) {
+  checkStrand(s);
+  if (vertex < 0 || vertex >= strands_[s].rod.numVertices())
+    throw InputError("hair: strand " + std::to_string(s) + " has no vertex " +
+                     std::to_string(vertex));
+  if (!force.allFinite()) throw InputError("hair: vertex force must be finite");
+  strands_[s].force[vertex] = force;
+}
+
+void HairDynamics::setGravity(const Vec3& gravity) {
+  if (!gravity.allFinite()) throw InputError("hair: gravity must be finite");
+  settings_.gravity = gravity;
+}
+
+double HairDynamics::totalMass() const {
+  double m = 0.0;
+  for (const Strand& s : strands_)
+    for (int i = 0; i < s.rod.numVertices(); ++i) m += s.rod.vertexMass(i);
+  return m;
+}
+
+// Han (4.7), implicitly: the configuration minimising the incremental potential from
+// q~ = q^n + dt qdot^n, the clamp's unknowns at their targets.
+void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& result) {
+  DiscreteElasticRod& rod = s.rod;
+  s.q_start = rod.configuration();
+  Eigen::VectorXd target = s.q_start;
+  for (int i = 0; i < rod.numVertices(); ++i)
+    target.segment<3>(DiscreteElasticRod::vertexDof(i)) += dt * s.v[i];
+  for (int j = 0; j < rod.numEdges(); ++j)
+    target[DiscreteElasticRod::angleDof(j)] += dt * s.omega[j];
+  StrandLoads loads;
+  loads.dt = dt;
+  loads.gravity = settings_.gravity;
+  loads.vertex_forces = s.force;
+  // Newton starts from the inertial target x^n + dt v^n (for a strand in motion much closer to
+  // the step's end than x^n), its edges turned as the target turns them but kept at their
+  // lengths at x^n (a straight extrapolation of a turning strand stretches it, which its stiff
+  // stretching would take several Newton iterations to undo).
+  Eigen::VectorXd q = target;
+  if (s.clamped) {
+    loads.held.assign(rod.numDofs(), 0);
+    std::fill(loads.held.begin(), loads.held.begin() + 7, 1);
+    q.segment<3>(0) = s.pose * s.root_x0;
+    q.segment<3>(4) = s.pose * s.root_x1;
+  }
+  for (int j = s.clamped ? 1 : 0; j < rod.numEdges(); ++j) {
+    const int a = DiscreteElasticRod::vertexDof(j), b = DiscreteElasticRod::vertexDof(j + 1);
+    const double length = (s.q_start.segment<3>(b) - s.q_start.segment<3>(a)).norm();
+    const Vec3 e = target.segment<3>(b) - target.segment<3>(a);
+    if (e.norm() > 0.0) q.segment<3>(b) = q.segment<3>(a) + length * e.normalized();
+  }
+  if (s.clamped) {
+    rod.setConfiguration(q);
+    // The first angle turns the (transported) reference director onto the clamp's director,
+    // unwrapped to the nearest turn of the last angle.
+    const Vec3 m1 = s.pose.linear() * s.root_m1;
+    double theta = signedAngle(rod.referenceDirector1(0), m1, rod.tangent(0));
+    theta += 2.0 * M_PI * std::round((s.q_start[3] - theta) / (2.0 * M_PI));
+    q[3] = theta;
+    rod.setConfiguration(q);
+  }
+  loads.inertial_target = target;
+  result = solveStrand(rod, loads, settings_.newton);
+  const Eigen::VectorXd q_new = rod.configuration();
+  if (s.clamped) {
+    // The reactions on the held unknowns: forces on x_0 and x_1, the moment about the first
+    // edge on its angle.
+    const Eigen::VectorXd& r = result.held_reaction;
+    const Vec3 f1 = r.segment<3>(4);
+    s.clamp.force = r.segment<3>(0) + f1;
+    s.clamp.torque = (q_new.segment<3>(4) - q_new.segment<3>(0)).cross(f1) + r[3] * rod.tangent(0);
+  }
+  for (int i = 0; i < rod.numVertices(); ++i) {
+    const int k = DiscreteElasticRod::vertexDof(i);
+    particles_.x[s.offset + i] = s.q_start.segment<3>(k);
+    particles_.v[s.offset + i] = (q_new.segment<3>(k) - s.q_start.segment<3>(k)) / dt;  // v*
+  }
+  for (int j = 0; j < rod.numEdges(); ++j) {
+    const int k = DiscreteElasticRod::angleDof(j);
+    s.omega[j] = (q_new[k] - s.q_start[k]) / dt;
+  }
+}
+
+void HairDynamics::beginStep(double dt) {
+  collider_impulse_.assign(colliders_.size(), mpm::ColliderImpulse());
+  std::vector<StrandNewtonResult> results(strands_.size());
+  tbb::parallel_for(0, numStrands(), [&](int s) { solveStrandStep(strands_[s], dt, results[s]); });
+  converged_ = true;
+  last_iterations_ = 0;
+  for (const StrandNewtonResult& r : results) {
+    converged_ = converged_ && r.converged;
+    last_iterations_ = std::max(last_iterations_, r.iterations);
+  }
+}
+
+// Han (4.8)-(4.9).
+void HairDynamics::transferToGrid() {
+  mpm::particleToGrid({&particles_}, grid_, settings_.kernel_degree, &supports_);
+  // A vertex just inside a node's support gives it a mass of order w^2 m (1e-23 kg for hair a
+  // hair's breadth inside): such a node carries nothing the strand could feel, but in the
+  // contact with another body's field (world/field_contact.h) its velocity is the ratio of two
+  // vanishing numbers. Nodes below 1e-9 of the heaviest vertex are dropped from the field (their
+  // change of velocity, and so their effect on the vertices, is zero).
+  double m_max = 0.0;
+  for (double m : particles_.mass) m_max = std::max(m_max, m);
+  for (int i = 0; i < grid_.size(); ++i)
+    if (grid_.mass[i] < 1e-9 * m_max) {
+      grid_.mass[i] = 0.0;
+      grid_.momentum[i].setZero();
+      grid_.velocity[i].setZero();
+    }
+  grid_v_star_ = grid_.velocity;
+}
+
+bool HairDynamics::updateGrid(double /*dt*/) {
+  mpm::applyGridColliders(grid_, colliders_, &collider_impulse_);
+  return converged_;
+}
+
+void HairDynamics::reapplyColliders() {
+  mpm::applyGridColliders(grid_, colliders_, &collider_impulse_);
+}
+
+void HairDynamics::transferFromGrid(double dt) {
+  // Han (4.12): v = (1 - xi) (v* + sum_i w_ip (v_i** - v_i*)) + xi sum_i w_ip v_i**, with the
+  // APIC affine velocity from v** for the next transfer.
+  grid_dv_.resize(grid_.size());
+  for (int i = 0; i < grid_.size(); ++i) grid_dv_[i] = grid_.velocity[i] - grid_v_star_[i];
+  mpm::interpolateNodeField(grid_, grid_dv_, particles_.x, settings_.kernel_degree, supports_[0],
+                            &dv_p_, nullptr);
+  scratch_ = particles_;
+  mpm::gridToParticle(grid_, scratch_, settings_.kernel_degree, 0.0, dt, &supports_[0]);
+  const double xi = settings_.pic_blend;
+  for (Strand& s : strands_) {
+    DiscreteElasticRod& rod = s.rod;
+    Eigen::VectorXd q = rod.configuration();  // the solved angles
+    for (int i = 0; i < rod.numVertices(); ++i) {
+      const int p = s.offset + i;
+      const Vec3 x_start = particles_.x[p];
+      Vec3 v, x;
+      if (s.clamped && i < 2) {  // the clamp's motion
+        v = particles_.v[p];
+        x = x_start + dt * v;
+        particles_.C[p].setZero();
+      } else {
+        v = (1.0 - xi) * (particles_.v[p] + dv_p_[p]) + xi * scratch_.v[p];
+        particles_.C[p] = scratch_.C[p];
+        x = x_start + dt * v;  // (4.13)
+        // A vertex ending inside an obstacle: the nodes' Coulomb projection as an impulse on
+        // it and the move redone, then any remaining depth removed from its position only
+        // (the free nodes above a vertex resting on a surface do not resist its fall).
+        for (std::size_t c = 0; c < surfaces_.size(); ++c) {
+          const SurfaceProjection pr = surfaces_[c]->project(x);
+          if (pr.gap >= 0.0) continue;
+          const mpm::GridCollider& gc = colliders_[c];
+          const Vec3 vc = gc.velocity.at(x);
+          const Vec3 v_rel = v - vc;
+          if (v_rel.dot(pr.normal) < 0.0) {
+            const Vec3 before = v;
+            v = vc + mpm::collideRelativeVelocity(v_rel, pr.normal, gc.boundary, gc.friction);
+            collider_impulse_[c].add(x, rod.vertexMass(i) * (v - before));
+            particles_.C[p].setZero();
+            x = x_start + dt * v;
+          }
+          const double gap = surfaces_[c]->project(x).gap;
+          if (gap < 0.0) x -= gap * pr.normal;
+        }
+      }
+      s.v[i] = v;
+      particles_.v[p] = v;
+      particles_.x[p] = x;
+      q.segment<3>(DiscreteElasticRod::vertexDof(i)) = x;
+    }
+    rod.setConfiguration(q);
+    rod.commit();
+  }
+}
+
+void HairDynamics::endStep(double dt) {
+  time_ += dt;
+}
+
+std::vector<mpm::MassCarriers> HairDynamics::fieldCarriers() const {
+  return {mpm::MassCarriers{&particles_.x, &particles_.mass, &supports_[0]}};
+}
+
+double HairDynamics::stableTimeStep() const {
+  double vmax = 0.0;
+  for (const Strand& s : strands_)
+    for (const Vec3& v : s.v) vmax = std::max(vmax, v.norm());
+  const double cfl = settings_.cfl * settings_.grid_spacing;
+  return vmax > 0.0 ? std::min(settings_.max_time_step, cfl / vmax) : settings_.max_time_step;
+}
+
+Vec3 HairDynamics::linearMomentum() const {
+  Vec3 p = Vec3::Zero();
+  for (const Strand& s : strands_)
+    for (int i = 0; i < s.rod.numVertices(); ++i) p += s.rod.vertexMass(i) * s.v[i];
+  return p;
+}
+
+double HairDynamics::kineticEnergy() const {
+  double k = 0.0;
+  for (const Strand& s : strands_) {
+    for (int i = 0; i < s.rod.numVertices(); ++i)
+      k += 0.5 * s.rod.vertexMass(i) * s.v[i].squaredNorm();
+    for (int j = 0; j < s.rod.numEdges(); ++j)
+      k += 0.5 * s.rod.angleInertia(j) * s.omega[j] * s.omega[j];
+  }
+  return k;
+}
+
+bool HairDynamics::finite() const {
+  for (const Strand& s : strands_) {
+    for (const Vec3& x : s.rod.positions())
+      if (!x.allFinite()) return false;
+    for (const Vec3& v : s.v)
+      if (!v.allFinite()) return false;
+  }
+  return true;
+}
+
+void HairDynamics::setColliders(const RigidSurfaces& colliders,
+                                const std::vector<SurfaceVelocity>& velocities,
+                                const std::vector<double>& frictions) {
+  if (!velocities.empty() && velocities.size() != colliders.size())
+    throw InputError("hair: " + std::to_string(velocities.size()) + " velocities for " +
+                     std::to_string(colliders.size()) + " colliders");
+  if (!frictions.empty() && frictions.size() != colliders.size())
+    throw InputError("hair: " + std::to_string(frictions.size()) + " frictions for " +
+                     std::to_string(colliders.size()) + " colliders");
+  std::vector<mpm::GridCollider> grid_colliders;
+  for (std::size_t c = 0; c < colliders.size(); ++c) {
+    if (!colliders[c]) throw InputError("hair: collider " + std::to_string(c) + " is null");
+    mpm::GridCollider g;
+    g.surface = colliders[c];
+    if (!velocities.empty()) g.velocity = velocities[c];
+    g.boundary = settings_.boundary;
+    g.friction = frictions.empty() ? settings_.friction : frictions[c];
+    if (!(g.friction >= 0.0 && std::isfinite(g.friction)))
+      throw InputError("hair: collider " + std::to_string(c) + " has friction " +
+                       std::to_string(g.friction));
+    grid_colliders.push_back(g);
+  }
+  surfaces_ = colliders;
+  colliders_ = std::move(grid_colliders);
+  collider_impulse_.assign(colliders_.size(), mpm::ColliderImpulse());
+}
+
+std::unique_ptr<DynamicsSnapshot> HairDynamics::snapshot() const {
+  auto s = std::make_unique<HairSnapshot>();
+  for (const Strand& strand : strands_) {
+    s->rods.push_back(strand.rod);
+    s->v.push_back(strand.v);
+    s->omega.push_back(strand.omega);
+    s->poses.push_back(strand.pose);
+  }
+  s->C = particles_.C;
+  s->time = time_;
+  return s;
+}
+
+void HairDynamics::restore(const DynamicsSnapshot& snapshot) {
+  const auto* s = dynamic_cast<const HairSnapshot*>(&snapshot);
+  if (!s) throw InputError("hair: snapshot of another body");
+  if (s->rods.size() != strands_.size())
+    throw InputError("hair: snapshot of " + std::to_string(s->rods.size()) + " strands for " +
+                     std::to_string(strands_.size()));
+  for (std::size_t k = 0; k < strands_.size(); ++k) {
+    Strand& strand = strands_[k];
+    strand.rod = s->rods[k];
+    strand.v = s->v[k];
+    strand.omega = s->omega[k];
+    strand.pose = s->poses[k];
+    for (int i = 0; i < strand.rod.numVertices(); ++i) {
+      particles_.x[strand.offset + i] = strand.rod.positions()[i];
+      particles_.v[strand.offset + i] = strand.v[i];
+    }
+  }
+  particles_.C = s->C;
+  time_ = s->time;
+}
+
+}  // namespace chs::rod

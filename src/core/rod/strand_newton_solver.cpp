@@ -1,0 +1,258 @@
+#include "cloth_hair_sim/core/rod/strand_newton_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+
+#include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/rod/parallel_transport.h"
+
+namespace chs::rod {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+Mat3 crossMatrix(const Vec3& a) {
+  Mat3 m;
+  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return m;
+}
+
+}  // namespace
+
+StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads,
+                               const StrandNewtonSettings& settings, double* tip_angle) {
+  const int n = rod.numDofs(), nv = rod.numVertices();
+  const bool dynamic = loads.dt > 0.0;
+  if (dynamic && loads.inertial_target.size() != n)
+    throw InputError("strand solve: inertial target of " +
+                     std::to_string(loads.inertial_target.size()) + " values for " +
+                     std::to_string(n) + " unknowns");
+  if (!loads.vertex_forces.empty() && static_cast<int>(loads.vertex_forces.size()) != nv)
+    throw InputError("strand solve: " + std::to_string(loads.vertex_forces.size()) +
+                     " vertex forces for " + std::to_string(nv) + " vertices");
+  if (!loads.held.empty() && static_cast<int>(loads.held.size()) != n)
+    throw InputError("strand solve: held flags for " + std::to_string(loads.held.size()) + " of " +
+                     std::to_string(n) + " unknowns");
+  const auto held = [&](int k) { return !loads.held.empty() && loads.held[k]; };
+
+  Eigen::VectorXd mass(n);
+  for (int i = 0; i < nv; ++i)
+    mass.segment<3>(DiscreteElasticRod::vertexDof(i)).setConstant(rod.vertexMass(i));
+  for (int j = 0; j < rod.numEdges(); ++j)
+    mass[DiscreteElasticRod::angleDof(j)] = rod.angleInertia(j);
+  const double inv_dt2 = dynamic ? 1.0 / (loads.dt * loads.dt) : 0.0;
+  const double mean_segment = rod.length() / rod.numEdges();
+
+  // The tip moment's angle: the last edge's turn about the axis since entry.
+  const Vec3 axis = loads.tip_moment_axis.normalized();
+  const int tip = DiscreteElasticRod::vertexDof(nv - 1),
+            before_tip = DiscreteElasticRod::vertexDof(nv - 2);
+  const auto planar = [&](const Eigen::VectorXd& q) {
+    const Vec3 e = q.segment<3>(tip) - q.segment<3>(before_tip);
+    return Vec3(e - e.dot(axis) * axis);
+  };
+  Eigen::VectorXd q = rod.configuration();
+  // Tracked from accepted iterate to accepted iterate, so that it counts whole turns; a trial
+  // that turns the tip by more than a quarter turn at once is refused (the line search halves
+  // it), so the increment's sign is never ambiguous.
+  double phi_now = tip_angle ? *tip_angle : 0.0;
+  Vec3 tip_now = planar(q);
+  const auto tipAngle = [&](const Eigen::VectorXd& x) {
+    return phi_now + signedAngle(tip_now, planar(x), axis);
+  };
+
+  const auto potential = [&](const Eigen::VectorXd& x) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    if (!rod.setConfiguration(x)) return kInf;
+    double phi = rod.elasticEnergy();
+    if (dynamic) phi += 0.5 * inv_dt2 * (x - loads.inertial_target).cwiseAbs2().dot(mass);
+    for (int i = 0; i < nv; ++i) {
+      Vec3 f = rod.vertexMass(i) * loads.gravity;
+      if (!loads.vertex_forces.empty()) f += loads.vertex_forces[i];
+      phi -= f.dot(x.segment<3>(DiscreteElasticRod::vertexDof(i)));
+    }
+    if (loads.tip_moment != 0.0) {
+      const double turn = tipAngle(x) - phi_now;
+      if (std::abs(turn) > 0.5 * M_PI) return kInf;
+      phi -= loads.tip_moment * (phi_now + turn);
+    }
+    return phi;
+  };
+
+  StrandNewtonResult result;
+  double value = potential(q);
+  if (!std::isfinite(value)) return result;
+  rod.commit();
+  Eigen::VectorXd g(n);
+  Triplets triplets;
+  // Natural ordering: the unknowns are already in band order (no fill outside the band).
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
+      ldlt;
+  // The Newton matrix: the true Hessian where it is positive definite (quadratic convergence
+  // near a stable equilibrium), else the element-wise projected one (a descent direction).
+  // The gradient of Phi's terms besides the elasticity, at q.
+  const auto addLoadGradient = [&](Eigen::VectorXd& grad) {
+    for (int k = 0; k < n && dynamic; ++k)
+      grad[k] += inv_dt2 * mass[k] * (q[k] - loads.inertial_target[k]);
+    for (int i = 0; i < nv; ++i) {
+      Vec3 f = rod.vertexMass(i) * loads.gravity;
+      if (!loads.vertex_forces.empty()) f += loads.vertex_forces[i];
+      grad.segment<3>(DiscreteElasticRod::vertexDof(i)) -= f;
+    }
+    if (loads.tip_moment != 0.0) {
+      const Vec3 e = q.segment<3>(tip) - q.segment<3>(before_tip);
+      const Vec3 dphi = axis.cross(e) / planar(q).squaredNorm();
+      grad.segment<3>(tip) -= loads.tip_moment * dphi;
+      grad.segment<3>(before_tip) += loads.tip_moment * dphi;
+    }
+  };
+  const auto newtonStep = [&](bool project, Eigen::VectorXd& dq) {
+    g.setZero();
+    triplets.clear();
+    rod.addElasticDerivatives(&g, &triplets, project);
+    addLoadGradient(g);
+    for (int k = 0; k < n && dynamic; ++k) triplets.emplace_back(k, k, inv_dt2 * mass[k]);
+    if (loads.tip_moment != 0.0) {
+      // phi = atan2 in the plane normal to the axis: d phi / de = a x e / |e_p|^2, and its
+      // Hessian [a]x / |e_p|^2 - 2 (a x e) e_p^T / |e_p|^4 (symmetric).
+      const Vec3 e = q.segment<3>(tip) - q.segment<3>(before_tip), ep = planar(q);
+      const double r2 = ep.squaredNorm();
+      Mat3 h = -loads.tip_moment *
+               (crossMatrix(axis) / r2 - 2.0 * axis.cross(e) * ep.transpose() / (r2 * r2));
+      h = 0.5 * (h + h.transpose());
+      if (project) {
+        Eigen::SelfAdjointEigenSolver<Mat3> es(h);
+        h = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
+            es.eigenvectors().transpose();
+      }
+
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          triplets.emplace_back(tip + r, tip + c, h(r, c));
+          triplets.emplace_back(before_tip + r, before_tip + c, h(r, c));
+          triplets.emplace_back(tip + r, before_tip + c, -h(r, c));
+          triplets.emplace_back(before_tip + r, tip + c, -h(r, c));
+        }
+    }
+    // Held unknowns: identity rows, zero gradient.
+    if (!loads.held.empty()) {
+      triplets.erase(std::remove_if(triplets.begin(), triplets.end(),
+                                    [&](const Eigen::Triplet<double>& t) {
+                                      return held(t.row()) || held(t.col());
+                                    }),
+                     triplets.end());
+      for (int k = 0; k < n; ++k)
+        if (held(k)) {
+          g[k] = 0.0;
+          triplets.emplace_back(k, k, 1.0);
+        }
+    }
+    Eigen::SparseMatrix<double> H(n, n);
+    H.setFromTriplets(triplets.begin(), triplets.end());
+    ldlt.compute(H);
+    const bool definite = ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0;
+    if (definite) {
+      dq = -ldlt.solve(g);
+      return true;
+    }
+    if (!project) return false;
+    // Semi-definite blocks can still sum to a singular matrix (a free strand's rigid motions in
+    // a static solve): shift until LDL^T has positive pivots.
+    double diag_max = 0.0;
+    for (int k = 0; k < n; ++k) diag_max = std::max(diag_max, H.coeff(k, k));
+    for (double shift = 1e-12 * diag_max; shift <= diag_max; shift *= 10.0) {
+      Eigen::SparseMatrix<double> A = H;
+      for (int k = 0; k < n; ++k) A.coeffRef(k, k) += shift;
+      ldlt.compute(A);
+      if (ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0) {
+        dq = -ldlt.solve(g);
+        return true;
+      }
+    }
+    return false;  // nothing to descend along
+  };
+
+  // A Newton step moves the vertices along the tangent of the rotations it linearises, and a
+  // stiff strand's stretching then takes back most of it: Newton's quadratic convergence starts
+  // only once the edges turn by less than about r / l per step. Each trial is therefore first
+  // tried with its edges turned but kept at their present lengths (a retraction onto the
+  // iterate's edge lengths, from the first vertex outwards) and as it is, and the lower
+  // potential of the two taken.
+  std::vector<double> lengths(rod.numEdges());
+  const auto retract = [&](const Eigen::VectorXd& x) {
+    Eigen::VectorXd r = x;
+    for (int j = 0; j < rod.numEdges(); ++j) {
+      if (rod.edgeEnd(j) == 0) continue;  // a ring's closing edge
+      const int a = DiscreteElasticRod::vertexDof(j),
+                b = DiscreteElasticRod::vertexDof(rod.edgeEnd(j));
+      const Vec3 e = x.segment<3>(b) - x.segment<3>(a);
+      if (held(b) || e.norm() == 0.0) continue;
+      r.segment<3>(b) = r.segment<3>(a) + lengths[j] * e.normalized();
+    }
+    return r;
+  };
+
+  Eigen::VectorXd dq;
+  for (result.iterations = 0; result.iterations < settings.max_iterations; ++result.iterations) {
+    for (int j = 0; j < rod.numEdges(); ++j)
+      lengths[j] = (q.segment<3>(DiscreteElasticRod::vertexDof(rod.edgeEnd(j))) -
+                    q.segment<3>(DiscreteElasticRod::vertexDof(j)))
+                       .norm();
+    if (!newtonStep(false, dq) && !newtonStep(true, dq)) break;
+    double step = 0.0;
+    for (int i = 0; i < nv; ++i)
+      step = std::max(step, dq.segment<3>(DiscreteElasticRod::vertexDof(i)).norm() / mean_segment);
+    for (int j = 0; j < rod.numEdges(); ++j)
+      step = std::max(step, std::abs(dq[DiscreteElasticRod::angleDof(j)]));
+    result.step = step;
+    // Armijo backtracking; the slack of a few ulps of Phi lets the last, tiny steps through
+    // where Phi no longer resolves the decrease.
+    const double slope = g.dot(dq), slack = 1e-14 * std::abs(value);
+    bool accepted = false;
+    for (double alpha = 1.0; alpha > 1e-10 && !accepted; alpha *= 0.5) {
+      const Eigen::VectorXd plain = q + alpha * dq, turned = retract(plain);
+      const double v_plain = potential(plain), v_turned = potential(turned);
+      const bool take_turned = v_turned < v_plain;
+      const double v = take_turned ? v_turned : v_plain;
+      if (v <= value + 1e-4 * alpha * slope + slack) {
+        q = take_turned ? turned : plain;
+        rod.setConfiguration(q);
+        value = v;
+        accepted = true;
+        rod.commit();
+        phi_now = tipAngle(q);
+        tip_now = planar(q);
+      }
+    }
+    if (!accepted) {
+      rod.setConfiguration(q);
+      break;
+    }
+    if (step <= settings.tolerance) {
+      result.converged = true;
+      ++result.iterations;
+      break;
+    }
+  }
+  if (tip_angle) *tip_angle = phi_now;
+  if (!loads.held.empty()) {
+    Eigen::VectorXd full = Eigen::VectorXd::Zero(n);
+    rod.addElasticDerivatives(&full, nullptr, false);
+    addLoadGradient(full);
+    result.held_reaction = Eigen::VectorXd::Zero(n);
+    for (int k = 0; k < n; ++k)
+      if (held(k)) result.held_reaction[k] = full[k];
+  }
+  return result;
+}
+
+}  // namespace chs::rod
