@@ -137,11 +137,18 @@ int run(int argc, char** argv) {
   });
   chs::writeDrapeReport((dir / scene.output.report).string(), result, context);
 
+  char eigen[64] = "";
+  if (result.stability.assessed)
+    std::snprintf(eigen, sizeof eigen, ", lowest eigenvalue %.4g",
+                  result.stability.lowest_eigenvalue);
   if (!opt.quiet)
     std::cout << "drape: " << (result.converged ? "converged" : "NOT converged") << " after "
               << result.load_steps << " load steps, " << result.iterations << " iterations, "
-              << result.wall_time_s << " s: " << result.status << "\ndrape: results in "
-              << dir.string() << std::endl;
+              << result.wall_time_s << " s: " << result.status << "\n"
+              << (scene.method == chs::DrapeMethod::kFemShell
+                      ? "drape: stability: " + result.stability.verdict + eigen + "\n"
+                      : std::string())
+              << "drape: results in " << dir.string() << std::endl;
   if (!result.converged) std::cerr << "drape: not converged: " << result.status << std::endl;
   return result.converged ? kConverged : kNotConverged;
 }
