@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/drape/drape_metrics.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/io/drape_plots.h"
 #include "cloth_hair_sim/core/io/drape_report.h"
@@ -117,6 +118,22 @@ int run(int argc, char** argv) {
   if (result.positions.size() != scene.problem.mesh.vertices.size())
     context.notes.push_back("the solver returned no positions: meshes show the reference state");
 
+  if (!scene.colliders.empty()) {
+    try {
+      const chs::DrapeMetrics m =
+          chs::measureDrape(scene.problem.mesh, positions, chs::supportOf(scene.colliders.front()));
+      context.drape_metrics = {{"drape_coefficient", m.drape_coefficient},
+                               {"folds", m.folds},
+                               {"lowest_z", m.lowest_z},
+                               {"highest_z", m.highest_z},
+                               {"max_radius", m.max_radius}};
+      if (!opt.quiet)
+        std::printf("drape: drape coefficient %.3f, %d folds, lowest point %.2f mm\n",
+                    m.drape_coefficient, m.folds, 1e3 * m.lowest_z);
+    } catch (const chs::InputError&) {
+      // A plane, sphere or capsule has no top face: no drape coefficient.
+    }
+  }
   const std::string title = scene.name + " (" + method + ")";
   auto picture = [&](const std::string& what, const auto& draw) {
     try {

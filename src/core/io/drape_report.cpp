@@ -49,6 +49,11 @@ std::string drapeReportJson(const DrapeResult& r, const ReportContext& c) {
   for (const auto& [k, v] : c.settings) settings[k] = num(v);
   for (const auto& [k, v] : c.material) material[k] = num(v);
   j["settings"] = settings;
+  if (!c.drape_metrics.empty()) {
+    json metrics = json::object();
+    for (const auto& [k, v] : c.drape_metrics) metrics[k] = num(v);
+    j["drape_metrics"] = metrics;
+  }
   j["material"] = material;
   j["colliders"] = c.colliders;
 

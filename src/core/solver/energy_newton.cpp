@@ -1,8 +1,6 @@
 #include "cloth_hair_sim/core/solver/energy_newton.h"
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
 #include <Eigen/CholmodSupport>
@@ -161,17 +159,6 @@ EnergyNewtonResult solveEnergyNewton(ContinuationProblem& p, const EnergyNewtonS
         }
       }
       p.restore();
-    }
-    if (std::getenv("CHS_DEBUG_NEWTON"))
-      std::fprintf(stderr, "it %d mu %.2e alpha %.3g bound %.3g E %.9e slope %.3e\n", it,
-                   hessian.shift(), alpha, p.stepBound(d), E, slope);
-    if (!accepted && std::getenv("CHS_DEBUG_NEWTON")) {
-      for (double a = 1e-2; a > 1e-12; a *= 0.1) {
-        p.increment(a * d);
-        const double Et = p.energy(lambda);
-        p.restore();
-        std::fprintf(stderr, "  a %.0e dE %.6e slope*a %.6e\n", a, Et - E, slope * a);
-      }
     }
     if (!accepted && out.residual <= 100.0 * s.tolerance) {
       floor = true;
