@@ -1,6 +1,7 @@
 // FEM shell with penalty contact (seed 000 sections 2.2.2 and 4.3): the overhanging beam against
 // small-deflection theory, and Newton's quadratic convergence.
 #include <cmath>
+#include <array>
 #include <cstdio>
 #include <vector>
 
@@ -124,37 +125,43 @@ TEST(FemShellContact, OverhangingBeamMatchesSmallDeflectionTheory) {
 }
 
 // The table edge between two nodes: the element edges that cross it carry the edge reaction
-// (ShellModel's edge contact). The figures must not depend on where the edge falls: with 24 and
-// 28 elements a node lies on it, with 25, 26 and 27 it falls at 0.75, 0.5 and 0.25 of an
-// element. Each must match small-deflection theory, and the node-on-edge meshes, within 1 %.
-TEST(FemShellContact, OverhangingBeamWithTheEdgeBetweenNodes) {
+// (ShellModel's edge contact). The figures must not depend on where the edge falls. In each set
+// the first two meshes have a node on the edge, the other three put it at 0.75, 0.5 and 0.25 of
+// an element. On ~100 elements each must match small-deflection theory, and the node-on-edge
+// meshes, within 1 %; on ~50 elements the tip deflection misses that by up to 0.17 % when the
+// edge is mid-element (the element across it cannot put the moment's kink inside itself).
+void edgeBetweenNodes(const std::array<int, 5>& meshes, double tolerance) {
   std::printf(" n   edge at    p [cm]   dy [cm]   R_b [gf]  R_c [gf]   errors %% (p dy R_b R_c)\n");
   std::vector<OverhangFigures> on_node;
-  for (int n : {48, 56, 49, 50, 51}) {
+  for (int n : meshes) {
     const DrapeResult r = solveFemShell(overhangingBeam(n), FemShellSettings());
     ASSERT_TRUE(r.converged) << r.status;
     const OverhangFigures f = extract(r, n);
     const OverhangErrors e = errorsOf(f);
     const double at = (kL - kA) / (kL / n);
-    std::printf("%2d  %6.2f    %.4f   %.5f   %.5f   %.5f   %.2f %.2f %.2f %.2f\n", n,
+    std::printf("%3d  %6.2f    %.4f   %.5f   %.5f   %.5f   %.2f %.2f %.2f %.2f\n", n,
                 at - std::floor(at + 1e-9), f.p, f.dy, f.Rb, f.Rc, 100 * e.p, 100 * e.dy,
                 100 * e.Rb, 100 * e.Rc);
-    EXPECT_LT(e.p, 0.01) << n;
-    // dy misses 1 % by up to 0.17 % when the edge is mid-element (docs/VALIDATION.md).
-    EXPECT_LT(e.dy, n == 48 || n == 56 ? 0.01 : 0.015) << n;
-    EXPECT_LT(e.Rb, 0.01) << n;
-    EXPECT_LT(e.Rc, 0.01) << n;
-    if (n == 48 || n == 56) {
+    EXPECT_LT(e.p, tolerance) << n;
+    EXPECT_LT(e.dy, tolerance) << n;
+    EXPECT_LT(e.Rb, tolerance) << n;
+    EXPECT_LT(e.Rc, tolerance) << n;
+    if (on_node.size() < 2) {
       on_node.push_back(f);
       continue;
     }
     for (const auto& g : on_node) {
-      EXPECT_LT(std::abs(f.dy - g.dy) / g.dy, 0.015) << n;
-      EXPECT_LT(std::abs(f.Rc - g.Rc) / g.Rc, 0.01) << n;
-      EXPECT_LT(std::abs(f.p - g.p) / g.p, 0.01) << n;
-      EXPECT_LT(std::abs(f.Rb - g.Rb) / g.Rb, 0.01) << n;
+      EXPECT_LT(std::abs(f.dy - g.dy) / g.dy, tolerance) << n;
+      EXPECT_LT(std::abs(f.Rc - g.Rc) / g.Rc, tolerance) << n;
+      EXPECT_LT(std::abs(f.p - g.p) / g.p, tolerance) << n;
+      EXPECT_LT(std::abs(f.Rb - g.Rb) / g.Rb, tolerance) << n;
     }
   }
+}
+
+TEST(FemShellContact, OverhangingBeamWithTheEdgeBetweenNodes) {
+  edgeBetweenNodes({96, 100, 97, 98, 99}, 0.01);
+  edgeBetweenNodes({48, 56, 49, 50, 51}, 0.015);
   // Without the edge contact the nodes alone meet the table: the beam sinks over the edge.
   FemShellSettings nodes_only;
   nodes_only.edge_contact = false;

@@ -214,6 +214,14 @@ TEST(FemShellEnergy, GradientOfTheEnergyIsTheResidual) {
   // The edges' penalty potential is integrated by Gauss quadrature on smooth pieces; what is
   // left is its error where a piece holds two changes of the gap's curvature.
   EXPECT_LT(worst, 1e-3);
+  // The energy minimiser factorises the lower triangle of K: a problem with a potential must
+  // have a symmetric tangent, contacts included.
+  Eigen::SparseMatrix<double> K;
+  model.linearize(1.0, R, F0, &K);
+  const double asym =
+      (K - Eigen::SparseMatrix<double>(K.transpose())).norm() / K.norm();
+  std::printf("  tangent asymmetry |K - K^T| / |K| = %.2e\n", asym);
+  EXPECT_LT(asym, 1e-12);
 }
 
 }  // namespace

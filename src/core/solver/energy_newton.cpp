@@ -15,7 +15,7 @@ constexpr double kArmijo = 1e-4;
 constexpr double kMinStep = 1e-8;
 constexpr double kMinShift = 1e-8, kMaxShift = 1e6;
 
-// Modified Hessian H = K_s + mu diag(K_s) (Levenberg-Marquardt's scaling, so mu is
+// Modified Hessian H = K_s + mu |diag(K_s)| (Levenberg-Marquardt's scaling, so mu is
 // dimensionless), factorised by CHOLMOD's supernodal Cholesky; the pattern is analysed once.
 class ModifiedHessian {
  public:
@@ -25,7 +25,9 @@ class ModifiedHessian {
   // Factorises with the smallest mu (from the last one, lowered) for which H is positive
   // definite; false if even mu = kMaxShift fails.
   bool factorize(const Eigen::SparseMatrix<double>& K) {
-    H_ = 0.5 * (K + Eigen::SparseMatrix<double>(K.transpose()));
+    // A problem with a potential has a symmetric tangent (ShellElement's, the penalty's): its
+    // lower triangle, which CHOLMOD reads, is K_s.
+    H_ = K;
     diag_ = H_.diagonal();
     if (!analyzed_) {
       llt_.analyzePattern(H_);
