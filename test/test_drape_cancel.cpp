@@ -45,7 +45,6 @@ TEST(DrapeCancel, FemShellEnergyMinimisationReturnsTheLastAcceptedIterate) {
   ASSERT_TRUE(allFinite(r.positions));
 }
 
-
 TEST(DrapeCancel, FemShellStopsAtOnceAndReturnsTheLastConvergedLoadStep) {
   Scene scene = tablecloth("tablecloth_fem.yaml");
   CancelFlag cancel{false};

@@ -1,7 +1,7 @@
 // FEM shell with penalty contact (seed 000 sections 2.2.2 and 4.3): the overhanging beam against
 // small-deflection theory, and Newton's quadratic convergence.
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 

@@ -218,8 +218,7 @@ TEST(FemShellEnergy, GradientOfTheEnergyIsTheResidual) {
   // have a symmetric tangent, contacts included.
   Eigen::SparseMatrix<double> K;
   model.linearize(1.0, R, F0, &K);
-  const double asym =
-      (K - Eigen::SparseMatrix<double>(K.transpose())).norm() / K.norm();
+  const double asym = (K - Eigen::SparseMatrix<double>(K.transpose())).norm() / K.norm();
   std::printf("  tangent asymmetry |K - K^T| / |K| = %.2e\n", asym);
   EXPECT_LT(asym, 1e-12);
 }

@@ -22,7 +22,7 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 }  // namespace
 
 ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness, bool edge_contact)
-    : problem_(problem), edge_contact_(edge_contact) {
+    : problem_(problem) {
   const QuadMesh& mesh = problem.mesh;
   const int nv = mesh.numVertices();
   // Reference directors t_0: area-weighted vertex normals of the stress-free mesh (eq. (2)).
@@ -82,6 +82,12 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness, bo
   mean_edge_ = mesh.quads.empty() ? 1.0 : edges / (4.0 * mesh.numQuads());
   contact_smoothing_ = 1e-4 * mean_edge_;
   anchor_ = nodes_;
+  // Edge contact for the solids with edges and rims (tables, pedestals), convex with an exact
+  // distance: a smooth surface (plane, sphere, capsule) is met at the nodes as before, and so is a
+  // sampled distance field, whose gap is not convex along a line.
+  for (const auto& c : problem.colliders)
+    edge_surface_.push_back(edge_contact && (dynamic_cast<const BoxSurface*>(c.get()) ||
+                                             dynamic_cast<const CylinderSurface*>(c.get())));
   for (int e = 0; e < mesh.numQuads(); ++e)
     for (int I = 0; I < 4; ++I) {
       const int a = mesh.quads[e][I], b = mesh.quads[e][(I + 1) % 4];
@@ -196,7 +202,7 @@ void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F
     }
     // Penalty contact, eqs. (33)-(35), active where the node penetrates.
     for (const auto& surface : problem_.colliders) {
-      if (edge_contact_) break;  // the edges' integrals hold the nodes too
+      if (edge_surface_[&surface - problem_.colliders.data()]) continue;  // held by the edges
       const SurfaceProjection p = surface->project(node.position);
       const Penalty f = penalty(p.gap);
       if (f.stiffness == 0.0) continue;
@@ -215,7 +221,7 @@ void ShellModel::linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F
         if (node_slots_[v][a * 5 + b] >= 0) kv[node_slots_[v][a * 5 + b]] += Kn(a, b);
     }
   }
-  if (edge_contact_) active_contacts_ += edgeContacts(&R, kv, nullptr, nullptr);
+  active_contacts_ += edgeContacts(&R, kv, nullptr, nullptr);
 }
 
 double ShellModel::energy(double lambda) {
@@ -235,10 +241,10 @@ double ShellModel::energy(double lambda) {
     const Eigen::Vector3d& x = nodes_[v].position;
     W -= lambda * f_dead_[v].dot(x - problem_.mesh.vertices[v]);
     if (stab > 0.0) W += 0.5 * stab * nodal_mass_[v] * (x - anchor_[v].position).squaredNorm();
-    if (!edge_contact_)
-      for (const auto& surface : problem_.colliders) W += penaltyEnergy(surface->project(x).gap);
+    for (std::size_t si = 0; si < problem_.colliders.size(); ++si)
+      if (!edge_surface_[si]) W += penaltyEnergy(problem_.colliders[si]->project(x).gap);
   }
-  if (edge_contact_) edgeContacts(nullptr, nullptr, &W, nullptr);
+  edgeContacts(nullptr, nullptr, &W, nullptr);
   return W;
 }
 
@@ -280,6 +286,7 @@ int ShellModel::edgeContacts(Eigen::VectorXd* R, double* kv, double* energy,
     const Eigen::Vector3d e = xb - xa;
     const double len = e.norm();
     for (std::size_t si = 0; si < problem_.colliders.size(); ++si) {
+      if (!edge_surface_[si]) continue;
       const RigidSurface& surface = *problem_.colliders[si];
       const SurfaceProjection pa = surface.project(xa), pb = surface.project(xb);
       // The gap is 1-Lipschitz: nowhere on the edge below (g_a + g_b - |e|) / 2.
@@ -511,13 +518,14 @@ std::string ShellModel::unrestrainedRigidModes() const {
 std::vector<ContactReaction> ShellModel::reactions() const {
   std::vector<ContactReaction> out;
   for (std::size_t v = 0; v < nodes_.size(); ++v)
-    for (std::size_t s = 0; s < problem_.colliders.size() && !edge_contact_; ++s) {
+    for (std::size_t s = 0; s < problem_.colliders.size(); ++s) {
+      if (edge_surface_[s]) continue;
       const SurfaceProjection p = problem_.colliders[s]->project(nodes_[v].position);
       const Penalty f = penalty(p.gap);
       if (f.force > 0.0)
         out.push_back({static_cast<int>(v), static_cast<int>(s), f.force * p.normal});
     }
-  if (edge_contact_) edgeContacts(nullptr, nullptr, nullptr, &out);
+  edgeContacts(nullptr, nullptr, nullptr, &out);
   return out;
 }
 

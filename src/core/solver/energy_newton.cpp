@@ -21,6 +21,8 @@ class ModifiedHessian {
  public:
   ModifiedHessian() {
     if (openblas_set_num_threads) openblas_set_num_threads(1);
+    // A failed factorisation is expected (it raises mu): no CHOLMOD warning on stderr.
+    llt_.cholmod().print = 0;
   }
   // Factorises with the smallest mu (from the last one, lowered) for which H is positive
   // definite; false if even mu = kMaxShift fails.

@@ -65,20 +65,20 @@ class ShellModel : public ContinuationProblem {
   Penalty penalty(double gap) const;
   double penaltyEnergy(double gap) const;  // its potential: -d/dgap = force
 
-  // Contact along the element edges (with edge_contact, in place of the node-on-surface
-  // penalty): the potential of each edge x(s) = (1 - s) x_a + s x_b is int_0^1 phi(g(x(s))) ds,
-  // so a table edge or pedestal rim that crosses a cloth edge between its nodes meets it where
-  // it is. The integrand is nonzero only where the gap is below the band; for a convex collider
-  // g(s) is convex, and Gauss quadrature on either side of its least value integrates it
-  // smoothly. Force and tangent are added to R and K (or the energy to *energy) for the free
-  // unknowns; reactions, per node.
+  // Contact along the element edges (with edge_contact, for tables and pedestals, in place of
+  // the node-on-surface penalty): the potential of each edge x(s) = (1 - s) x_a + s x_b is int_0^1
+  // phi(g(x(s))) ds, so a table edge or pedestal rim that crosses a cloth edge between its nodes
+  // meets it where it is. The integrand is nonzero only where the gap is below the band; for a
+  // convex collider g(s) is convex, and Gauss quadrature on either side of its least value
+  // integrates it smoothly. Force and tangent are added to R and K (or the energy to *energy) for
+  // the free unknowns; reactions, per node.
   struct Edge {
     int a, b;     // vertices
     int element;  // an element holding both, and their local indices in it
     int la, lb;
   };
   std::vector<Edge> edges_;
-  bool edge_contact_ = true;
+  std::vector<bool> edge_surface_;  // per collider: met along the edges (else at the nodes)
   int edgeContacts(Eigen::VectorXd* R, double* kv, double* energy,
                    std::vector<ContactReaction>* reactions) const;
   std::vector<double> element_energy_;
