@@ -11,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
+#include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/fem_shell/shell_model.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
@@ -221,6 +222,29 @@ TEST(FemShellEnergy, GradientOfTheEnergyIsTheResidual) {
   const double asym = (K - Eigen::SparseMatrix<double>(K.transpose())).norm() / K.norm();
   std::printf("  tangent asymmetry |K - K^T| / |K| = %.2e\n", asym);
   EXPECT_LT(asym, 1e-12);
+}
+
+}  // namespace
+}  // namespace chs
+
+namespace chs {
+namespace {
+
+// Energy minimisation asked for a problem without a potential (Kawabata bending): InputError.
+TEST(FemShellEnergy, EnergyMinimisationWithoutAPotentialIsBadInput) {
+  DrapeProblem p = strut(0.5 * kEuler);
+  KawabataBending k;
+  k.a = {1e-3, 0, 0, 0, 0};
+  p.material.kawabata = k;
+  FemShellSettings s;
+  s.solver = FemShellMethod::kEnergyNewton;
+  try {
+    solveFemShell(p, s);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    std::printf("InputError: %s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("potential"), std::string::npos);
+  }
 }
 
 }  // namespace
