@@ -13,12 +13,36 @@
 namespace chs {
 namespace {
 
-Scene tablecloth(const char* file) {
-  return loadScene(std::string(CHS_SOURCE_DIR) + "/scenes/" + file);
-}
-
 bool allFinite(const std::vector<Eigen::Vector3d>& x) {
   return std::all_of(x.begin(), x.end(), [](const Eigen::Vector3d& p) { return p.allFinite(); });
+}
+
+// The load-stepping cases run seed 000's path-following solver (the scene's default for a drape
+// is the energy minimiser, cancelled in its own case below).
+Scene tablecloth(const char* file) {
+  Scene s = loadScene(std::string(CHS_SOURCE_DIR) + "/scenes/" + file);
+  s.fem_shell.solver = FemShellMethod::kArcLength;
+  s.fem_shell.edge_contact = false;  // as these cases were measured; quicker
+  return s;
+}
+
+TEST(DrapeCancel, FemShellEnergyMinimisationReturnsTheLastAcceptedIterate) {
+  Scene scene = loadScene(std::string(CHS_SOURCE_DIR) + "/scenes/tablecloth_fem.yaml");
+  CancelFlag cancel{false};
+  scene.fem_shell.cancel = &cancel;
+  int events_after_cancel = 0;
+  const DrapeResult r = solveFemShell(scene.problem, scene.fem_shell, [&](const ProgressEvent& e) {
+    if (cancel) ++events_after_cancel;
+    if (e.iteration == 5) cancel = true;
+  });
+  std::printf("cancelled: %s\n", r.status.c_str());
+  EXPECT_TRUE(r.cancelled);
+  EXPECT_FALSE(r.converged);
+  EXPECT_NE(r.status.find("cancelled"), std::string::npos) << r.status;
+  EXPECT_EQ(events_after_cancel, 0);
+  EXPECT_EQ(r.iterations, 5);
+  EXPECT_FALSE(r.stability.assessed);
+  ASSERT_TRUE(allFinite(r.positions));
 }
 
 TEST(DrapeCancel, FemShellStopsAtOnceAndReturnsTheLastConvergedLoadStep) {

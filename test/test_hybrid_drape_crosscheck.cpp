@@ -49,9 +49,16 @@ double distanceToSurface(const Vec3& p, const DisplaySurface& s) {
 
 TEST(HybridDrapeCrosscheck, TableclothSettlesOntoTheFemDrape) {
   const auto start = std::chrono::steady_clock::now();
-  const Scene scene = loadScene(std::string(CHS_SOURCE_DIR) + "/scenes/tablecloth_fem.yaml");
+  Scene scene = loadScene(std::string(CHS_SOURCE_DIR) + "/scenes/tablecloth_fem.yaml");
+  // The symmetric equilibrium, which the dynamic drape keeps for its 1 s: path following and node
+  // contact, as measured. The energy minimiser (the scene's default) goes on to a folded state of
+  // lower energy that the hybrid drape would reach only with a trigger (docs/VALIDATION.md).
+  scene.fem_shell.solver = FemShellMethod::kArcLength;
+  scene.fem_shell.edge_contact = false;
   const DrapeResult fem = solveFemShell(scene.problem, scene.fem_shell);
-  ASSERT_TRUE(fem.converged) << fem.status;
+  std::printf("FEM drape: %s; %s, lowest eigenvalue %.3e\n", fem.status.c_str(),
+              fem.stability.verdict.c_str(), fem.stability.lowest_eigenvalue);
+  ASSERT_LE(fem.residual, scene.fem_shell.tolerance) << fem.status;
 
   // The scene's fixed x-y components only stop the static solve from drifting on the
   // frictionless top; the symmetric dynamic drape needs no such hold.

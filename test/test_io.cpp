@@ -308,6 +308,14 @@ TEST(Scene, UnknownKeysAndBadValues) {
   expectInputError(
       [&] { parseScene(edited("max_load_steps: 50", "max_load_steps: 2.5"), ".", "t"); },
       {"fem_shell.max_load_steps", "integer"});
+  expectInputError([&] { parseScene(edited("arc_length: false", "solver: magic"), ".", "t"); },
+                   {"fem_shell.solver", "magic"});
+  expectInputError(
+      [&] { parseScene(edited("arc_length: false", "imperfection_shape: dents"), ".", "t"); },
+      {"fem_shell.imperfection_shape", "dents"});
+  expectInputError(
+      [&] { parseScene(edited("arc_length: false", "imperfection_waves: 0"), ".", "t"); },
+      {"fem_shell.imperfection_waves"});
   expectInputError([&] { parseScene(edited("radius: 0.5", "radius: -0.5"), ".", "t"); },
                    {"colliders[1].sphere.radius", "positive"});
   expectInputError([&] { parseScene(edited("momentum: 0.99", "momentum: 1.5"), ".", "t"); },

@@ -93,7 +93,7 @@ TEST(Seed001Drapes, DISABLED_MeasureStudyOutputs) {
 
 // Measured in docs/seed001_study.md for this mesh and these settings.
 // Measured for the 24-across mesh of this test (the 32-across study mesh: see the study).
-constexpr double kMeasuredDc = 0.494;
+constexpr double kMeasuredDc = 0.512;  // energy minimisation with edge contact (0.494 before)
 constexpr int kMeasuredFolds = 8;
 
 TEST(Seed001Drapes, DiscOnPedestalCoarse) {

@@ -52,7 +52,8 @@ TEST(Tablecloth, FemShellDrapeIsAStaticEquilibrium) {
   ASSERT_TRUE(r.converged) << r.status;
   EXPECT_LE(r.residual, scene.fem_shell.tolerance);
   report("FEM shell", scene, r);
-  // A symmetric problem without imperfection: the solution keeps the diagonal mirror symmetry.
+  // The symmetric flat start would keep the diagonal mirror symmetry; the energy minimiser
+  // leaves it where it is not a minimum and must end on a stable equilibrium.
   const int n = 20;
   double asym = 0.0;
   for (int j = 0; j <= n; ++j)
@@ -60,8 +61,10 @@ TEST(Tablecloth, FemShellDrapeIsAStaticEquilibrium) {
       const Eigen::Vector3d a = r.positions[j * (n + 1) + i], b = r.positions[i * (n + 1) + j];
       asym = std::max(asym, (a - Eigen::Vector3d(b.y(), b.x(), b.z())).norm());
     }
-  std::printf("  mirror asymmetry about the diagonal: %.2e m\n", asym);
-  EXPECT_LT(asym, 1e-6);
+  std::printf("  mirror asymmetry about the diagonal: %.2e m; %s, lowest eigenvalue %.3e\n", asym,
+              r.stability.verdict.c_str(), r.stability.lowest_eigenvalue);
+  EXPECT_TRUE(r.stability.stable);
+  EXPECT_GT(r.stability.lowest_eigenvalue, 0.0);
 }
 
 TEST(Tablecloth, ParticleDrapeIsAStaticEquilibrium) {

@@ -811,7 +811,7 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
     if (method == chs::DrapeMethod::kFemShell) {
       chs::FemShellSettings s;
       if (req.tolerance > 0.0) s.tolerance = req.tolerance;
-      if (req.max_iterations > 0) s.max_load_steps = req.max_iterations;
+      if (req.max_iterations > 0) s.max_load_steps = s.max_iterations = req.max_iterations;
       s.stabilization = req.stabilization;
       s.cancel = cancel;
       r = chs::solveFemShell(problem, s, progress);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/drape/drape_metrics.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/io/drape_plots.h"
 #include "cloth_hair_sim/core/io/drape_report.h"
@@ -117,6 +118,22 @@ int run(int argc, char** argv) {
   if (result.positions.size() != scene.problem.mesh.vertices.size())
     context.notes.push_back("the solver returned no positions: meshes show the reference state");
 
+  if (!scene.colliders.empty()) {
+    try {
+      const chs::DrapeMetrics m =
+          chs::measureDrape(scene.problem.mesh, positions, chs::supportOf(scene.colliders.front()));
+      context.drape_metrics = {{"drape_coefficient", m.drape_coefficient},
+                               {"folds", m.folds},
+                               {"lowest_z", m.lowest_z},
+                               {"highest_z", m.highest_z},
+                               {"max_radius", m.max_radius}};
+      if (!opt.quiet)
+        std::printf("drape: drape coefficient %.3f, %d folds, lowest point %.2f mm\n",
+                    m.drape_coefficient, m.folds, 1e3 * m.lowest_z);
+    } catch (const chs::InputError&) {
+      // A plane, sphere or capsule has no top face: no drape coefficient.
+    }
+  }
   const std::string title = scene.name + " (" + method + ")";
   auto picture = [&](const std::string& what, const auto& draw) {
     try {
@@ -137,11 +154,18 @@ int run(int argc, char** argv) {
   });
   chs::writeDrapeReport((dir / scene.output.report).string(), result, context);
 
+  char eigen[64] = "";
+  if (result.stability.assessed)
+    std::snprintf(eigen, sizeof eigen, ", lowest eigenvalue %.4g",
+                  result.stability.lowest_eigenvalue);
   if (!opt.quiet)
     std::cout << "drape: " << (result.converged ? "converged" : "NOT converged") << " after "
               << result.load_steps << " load steps, " << result.iterations << " iterations, "
-              << result.wall_time_s << " s: " << result.status << "\ndrape: results in "
-              << dir.string() << std::endl;
+              << result.wall_time_s << " s: " << result.status << "\n"
+              << (scene.method == chs::DrapeMethod::kFemShell
+                      ? "drape: stability: " + result.stability.verdict + eigen + "\n"
+                      : std::string())
+              << "drape: results in " << dir.string() << std::endl;
   if (!result.converged) std::cerr << "drape: not converged: " << result.status << std::endl;
   return result.converged ? kConverged : kNotConverged;
 }

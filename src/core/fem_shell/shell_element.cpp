@@ -1,6 +1,7 @@
 #include "cloth_hair_sim/core/fem_shell/shell_element.h"
 
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Geometry>
 
@@ -279,6 +280,46 @@ void ShellElement::evaluate(const std::array<const ShellNode*, 4>& state, Elemen
     Kr.block<2, 2>(5 * I + 3, 5 * I + 3) -=
         f.segment<3>(6 * I + 3).dot(d[I]) * Eigen::Matrix2d::Identity();
   }
+}
+
+double ShellElement::energy(const std::array<const ShellNode*, 4>& state) const {
+  if (material_.kawabata) return std::numeric_limits<double>::quiet_NaN();
+  std::array<Eigen::Vector3d, 4> x, d;
+  for (int I = 0; I < 4; ++I) x[I] = state[I]->position, d[I] = state[I]->frame.director();
+  Strain8 sample_strain[5];
+  for (int p = 0; p < 5; ++p) {
+    sample_strain[p] = measuresAt(kinematicsAt(shapeAt(kSampleXi[p], kSampleEta[p]), x, d));
+    for (int r = 0; r < 3; ++r) sample_strain[p][r] -= sample_ref_[p].aa[r];
+    for (int r = 0; r < 2; ++r) sample_strain[p][3 + r] -= sample_ref_[p].at[r];
+  }
+  const ShellMaterial& mat = material_;
+  const double nu = mat.poisson, h = mat.thickness;
+  Eigen::Matrix3d plane_stress;
+  plane_stress << 1, nu, 0, nu, 1, 0, 0, 0, 0.5 * (1 - nu);
+  plane_stress /= 1 - nu * nu;
+  const double shear_stiffness = mat.shear_correction * mat.shearModulus() * h;
+  double W = 0.0;
+  for (int g = 0; g < 4; ++g) {
+    const double xi = kGauss * kGaussXi[g], eta = kGauss * kGaussEta[g];
+    const Strain8 m = measuresAt(kinematicsAt(shapeAt(xi, eta), x, d));
+    const double wA = 0.5 * (1 - eta), wC = 0.5 * (1 + eta), wD = 0.5 * (1 - xi),
+                 wB = 0.5 * (1 + xi);
+    // The same assumed strains as evaluate(): W = 1/2 e . D e, whose gradient is (A.75).
+    const Eigen::Vector3d membrane(wA * sample_strain[kA][0] + wC * sample_strain[kC][0],
+                                   wD * sample_strain[kD][1] + wB * sample_strain[kB][1],
+                                   sample_strain[kCentre][2]);
+    const Eigen::Vector2d shear(wA * sample_strain[kA][3] + wC * sample_strain[kC][3],
+                                wD * sample_strain[kD][4] + wB * sample_strain[kB][4]);
+    Eigen::Vector3d bending;
+    for (int r = 0; r < 3; ++r) bending[r] = m[5 + r] - gauss_ref_[g].ak[r];
+    const Eigen::Vector3d em = strain_to_cartesian_[g] * membrane;
+    const Eigen::Vector3d kc = strain_to_cartesian_[g] * bending;
+    const Eigen::Vector2d gc = shear_to_cartesian_[g] * shear;
+    W += 0.5 * gauss_weight_[g] * mat.young * h *
+         (em.dot(plane_stress * em) + h * h / 12.0 * kc.dot(plane_stress * kc) +
+          shear_stiffness / (mat.young * h) * gc.squaredNorm());
+  }
+  return W;
 }
 
 }  // namespace chs

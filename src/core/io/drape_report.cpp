@@ -36,11 +36,24 @@ std::string drapeReportJson(const DrapeResult& r, const ReportContext& c) {
   j["load_factor"] = num(r.load_factor);
   j["residual"] = num(r.residual);
   j["wall_time_s"] = num(r.wall_time_s);
+  if (c.method == "fem_shell")
+    j["stability"] = {{"assessed", r.stability.assessed},
+                      {"lowest_eigenvalue",
+                       r.stability.assessed ? num(r.stability.lowest_eigenvalue) : json(nullptr)},
+                      {"negative_eigenvalues", r.stability.negative_eigenvalues},
+                      {"stable", r.stability.stable},
+                      {"verdict", r.stability.verdict},
+                      {"scaling", "tangent symmetrised and scaled to unit diagonal"}};
   j["mesh"] = {{"vertices", c.vertices}, {"quads", c.quads}};
   json settings = json::object(), material = json::object();
   for (const auto& [k, v] : c.settings) settings[k] = num(v);
   for (const auto& [k, v] : c.material) material[k] = num(v);
   j["settings"] = settings;
+  if (!c.drape_metrics.empty()) {
+    json metrics = json::object();
+    for (const auto& [k, v] : c.drape_metrics) metrics[k] = num(v);
+    j["drape_metrics"] = metrics;
+  }
   j["material"] = material;
   j["colliders"] = c.colliders;
 

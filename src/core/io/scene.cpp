@@ -285,6 +285,22 @@ FemShellSettings parseFemShell(const YAML::Node& node) {
   f.imperfection = s.number("imperfection", f.imperfection);
   if (f.imperfection < 0.0) fail(s.key("imperfection"), "must not be negative (m)");
   f.imperfection_seed = static_cast<unsigned>(s.integer("imperfection_seed", 1, 0));
+  const std::string shape = s.text("imperfection_shape", "random");
+  if (shape == "waves")
+    f.imperfection_shape = FemShellSettings::Imperfection::kWaves;
+  else if (shape != "random")
+    fail(s.key("imperfection_shape"), "must be random or waves, got '" + shape + "'");
+  f.imperfection_waves = s.integer("imperfection_waves", f.imperfection_waves, 1);
+  const std::string solver = s.text("solver", "auto");
+  if (solver == "energy_newton")
+    f.solver = FemShellMethod::kEnergyNewton;
+  else if (solver == "arc_length")
+    f.solver = FemShellMethod::kArcLength;
+  else if (solver != "auto")
+    fail(s.key("solver"), "must be auto, energy_newton or arc_length, got '" + solver + "'");
+  f.max_iterations = s.integer("max_iterations", f.max_iterations, 1);
+  f.max_saddle_escapes = s.integer("max_saddle_escapes", f.max_saddle_escapes, 0);
+  f.edge_contact = s.boolean("edge_contact", f.edge_contact);
   s.done();
   if (f.tolerance >= 1.0) fail(s.key("tolerance"), "must be below 1 (a relative residual)");
   if (f.initial_load_increment > f.max_load_increment)
@@ -397,19 +413,26 @@ Scene loadScene(const std::string& path) {
 }
 
 std::vector<std::pair<std::string, double>> settingsList(const FemShellSettings& s) {
-  return {{"tolerance", s.tolerance},
-          {"max_iterations_per_step", s.max_iterations_per_step},
-          {"target_iterations", s.target_iterations},
-          {"initial_load_increment", s.initial_load_increment},
-          {"max_load_increment", s.max_load_increment},
-          {"max_load_steps", s.max_load_steps},
-          {"max_cutbacks", s.max_cutbacks},
-          {"contact_stiffness", s.contact_stiffness},
-          {"arc_length", s.arc_length ? 1.0 : 0.0},
-          {"stabilization", s.stabilization},
-          {"max_settling_steps", s.max_settling_steps},
-          {"imperfection", s.imperfection},
-          {"imperfection_seed", static_cast<double>(s.imperfection_seed)}};
+  return {
+      {"tolerance", s.tolerance},
+      {"max_iterations_per_step", s.max_iterations_per_step},
+      {"target_iterations", s.target_iterations},
+      {"initial_load_increment", s.initial_load_increment},
+      {"max_load_increment", s.max_load_increment},
+      {"max_load_steps", s.max_load_steps},
+      {"max_cutbacks", s.max_cutbacks},
+      {"contact_stiffness", s.contact_stiffness},
+      {"arc_length", s.arc_length ? 1.0 : 0.0},
+      {"stabilization", s.stabilization},
+      {"max_settling_steps", s.max_settling_steps},
+      {"imperfection", s.imperfection},
+      {"imperfection_seed", static_cast<double>(s.imperfection_seed)},
+      {"imperfection_waves",
+       s.imperfection_shape == FemShellSettings::Imperfection::kWaves ? s.imperfection_waves : 0},
+      {"solver", static_cast<double>(s.solver)},  // 0 auto, 1 energy_newton, 2 arc_length
+      {"max_iterations", s.max_iterations},
+      {"max_saddle_escapes", s.max_saddle_escapes},
+      {"edge_contact", s.edge_contact ? 1.0 : 0.0}};
 }
 
 std::vector<std::pair<std::string, double>> settingsList(const ParticleSettings& s) {

@@ -65,6 +65,16 @@ struct ProgressEvent {
 };
 using ProgressCallback = std::function<void(const ProgressEvent&)>;
 
+// Stability of the returned state (FEM shell): the lowest eigenvalue of the symmetrised,
+// constrained tangent scaled to unit diagonal (core/solver/stability.h).
+struct DrapeStability {
+  bool assessed = false;  // false: not an equilibrium, or no eigenvalue computed
+  double lowest_eigenvalue = 0.0;
+  int negative_eigenvalues = 0;
+  bool stable = false;
+  std::string verdict;  // "stable", "unstable (saddle)", or why it was not assessed
+};
+
 struct DrapeResult {
   bool converged = false;
   bool cancelled = false;  // stopped on request (a CancelFlag): positions hold the last good state
@@ -78,6 +88,7 @@ struct DrapeResult {
   std::vector<ProgressEvent> history;
   std::vector<ContactReaction> reactions;
   double wall_time_s = 0.0;
+  DrapeStability stability;
 };
 
 }  // namespace chs

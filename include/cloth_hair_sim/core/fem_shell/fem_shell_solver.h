@@ -4,12 +4,24 @@
 
 namespace chs {
 
+// How the static equilibrium is found. kEnergyNewton: minimisation of the potential energy with
+// a modified-Hessian Newton method, leaving saddles along their lowest mode
+// (core/solver/energy_newton.h); kArcLength: seed 000's path following (with the optional
+// pseudo-transient stabilisation). kAuto: energy minimisation for drapes (a collider, a
+// potential energy), arc length otherwise (beams under loads, Kawabata bending, moments).
+enum class FemShellMethod { kAuto, kEnergyNewton, kArcLength };
+
 // Settings of the static FEM shell solve: Newton-Raphson with the adaptive arc-length method of
-// seed 000 section 2.2.1 and node-on-surface penalty contact (section 2.2.2).
+// seed 000 section 2.2.1 or energy minimisation, and penalty contact (section 2.2.2) at the
+// nodes and where element edges cross a collider's edge.
 struct FemShellSettings {
-  double tolerance = 1e-8;               // relative residual |R| / |F_ref| at convergence
-  int max_iterations_per_step = 30;      // divergence: halve the arc length, restart the step
-  int target_iterations = 6;             // N_p of eq. (20)
+  FemShellMethod solver = FemShellMethod::kAuto;
+  int max_iterations = 2000;         // energy minimisation: Newton iterations in all
+  int max_saddle_escapes = 20;       // energy minimisation: saddles left along their lowest mode
+  bool edge_contact = true;          // contact of element edges between nodes (ShellModel)
+  double tolerance = 1e-8;           // relative residual |R| / |F_ref| at convergence
+  int max_iterations_per_step = 30;  // divergence: halve the arc length, restart the step
+  int target_iterations = 6;         // N_p of eq. (20)
   double initial_load_increment = 0.05;  // Delta lambda_0 of step 2 in section 2.2.3
   double max_load_increment = 1.0;
   int max_load_steps = 400;
@@ -19,16 +31,23 @@ struct FemShellSettings {
   // Viscous stabilisation of buckling drapes (ArcLengthSettings::stabilization); 0 = off.
   double stabilization = 0.0;
   int max_settling_steps = 200;
-  // Amplitude (length) of a seeded random initial displacement along the directors that breaks
-  // the symmetry of a perfectly flat sheet; 0 = none.
+  // Initial imperfection that breaks the symmetry of a perfectly flat sheet, displacing the
+  // free nodes along their directors by up to `imperfection` (a length; 0 = none). Shape
+  // kRandom: uniform in [0, a] per node from imperfection_seed (std::mt19937); kWaves:
+  // a (1 + cos(n theta)) / 2 (r / r_max)^2 with n = imperfection_waves, theta and r about the
+  // mesh centroid: n folds' worth of ripple growing towards the rim.
   double imperfection = 0.0;
   unsigned imperfection_seed = 1;
+  enum class Imperfection { kRandom, kWaves } imperfection_shape = Imperfection::kRandom;
+  int imperfection_waves = 4;
   // Polled each iteration: once set, the solve returns the last converged load step (while
   // settling, the state of least residual) with DrapeResult::cancelled.
   const CancelFlag* cancel = nullptr;
 };
 
-// Solves the static drape; never throws on non-convergence: the result then holds the last
+// Solves the static drape and checks the stability of the equilibrium it finds (result.stability):
+// a saddle of a problem with a potential energy is not reported as converged. Never throws on
+// non-convergence: the result then holds the last
 // converged load step, converged = false and a status that says why. Throws InputError for input
 // that makes no sense.
 DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& settings,

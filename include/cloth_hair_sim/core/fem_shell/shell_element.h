@@ -46,6 +46,9 @@ class ShellElement {
   // Internal force P (A.75) and tangent K; K is skipped if null.
   void evaluate(const std::array<const ShellNode*, 4>& state, ElementVector& force,
                 ElementMatrix* tangent) const;
+  // Strain energy, whose gradient is the internal force; NaN with Kawabata bending, whose
+  // componentwise moment law (A.32)-(A.34) has none (its tangent is not symmetric).
+  double energy(const std::array<const ShellNode*, 4>& state) const;
 
   // Largest |Jacobian ratio| distortion check: false if the reference element is degenerate.
   bool isValid() const { return valid_; }

@@ -14,7 +14,9 @@ namespace chs {
 // solver. Unknowns: 5 per node (3 translations + 2 director increments), constrained ones removed.
 class ShellModel : public ContinuationProblem {
  public:
-  ShellModel(const DrapeProblem& problem, double contact_stiffness);
+  // edge_contact: penalty contact also where an element edge meets a collider between its
+  // nodes (a table edge or pedestal rim), see edgeContacts().
+  ShellModel(const DrapeProblem& problem, double contact_stiffness, bool edge_contact = true);
 
   int size() const override { return num_free_; }
   void linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
@@ -24,9 +26,16 @@ class ShellModel : public ContinuationProblem {
   void restore() override { nodes_ = saved_; }
   void setStabilization(double factor) override;
   void anchorHere() override { anchor_ = nodes_; }
-  // Seeded random displacement in [0, a] of the free nodes along their directors: the
-  // imperfection that lets a perfectly flat sheet choose its folds.
-  void perturb(double amplitude, unsigned seed);
+  // Strain energy + penalty energy - lambda (dead load) . displacement (+ the viscous term's
+  // own potential); NaN with Kawabata bending or nodal moments, which have none.
+  double energy(double lambda) override;
+  // At most two mean element edges of translation and half a radian of director turn.
+  double stepBound(const Eigen::VectorXd& dq) const override;
+  // Imperfections that let a perfectly flat sheet choose its folds (FemShellSettings): a seeded
+  // random displacement in [0, a] of the free nodes along their directors, or n waves round the
+  // centroid, a (1 + cos n theta) / 2 (r / r_max)^2.
+  void perturbRandom(double amplitude, unsigned seed);
+  void perturbWaves(double amplitude, int waves);
   double loadNorm() const override { return load_norm_; }
   double lengthScale() const override { return length_scale_; }
   int activeContacts() const override { return active_contacts_; }
@@ -54,6 +63,25 @@ class ShellModel : public ContinuationProblem {
     double force, stiffness;  // magnitude along the normal and its derivative
   };
   Penalty penalty(double gap) const;
+  double penaltyEnergy(double gap) const;  // its potential: -d/dgap = force
+
+  // Contact along the element edges (with edge_contact, for tables and pedestals, in place of
+  // the node-on-surface penalty): the potential of each edge x(s) = (1 - s) x_a + s x_b is int_0^1
+  // phi(g(x(s))) ds, so a table edge or pedestal rim that crosses a cloth edge between its nodes
+  // meets it where it is. The integrand is nonzero only where the gap is below the band; for a
+  // convex collider g(s) is convex, and Gauss quadrature on either side of its least value
+  // integrates it smoothly. Force and tangent are added to R and K (or the energy to *energy) for
+  // the free unknowns; reactions, per node.
+  struct Edge {
+    int a, b;     // vertices
+    int element;  // an element holding both, and their local indices in it
+    int la, lb;
+  };
+  std::vector<Edge> edges_;
+  std::vector<bool> edge_surface_;  // per collider: met along the edges (else at the nodes)
+  int edgeContacts(Eigen::VectorXd* R, double* kv, double* energy,
+                   std::vector<ContactReaction>* reactions) const;
+  std::vector<double> element_energy_;
 
   // Fixed sparsity pattern of K and, per element and per node, where each entry lands in it
   // (-1 for constrained unknowns): assembly adds in place instead of sorting triplets.

@@ -18,6 +18,9 @@ struct ReportContext {
   int vertices = 0;
   int quads = 0;
   std::vector<std::string> notes;  // e.g. pictures that could not be drawn
+  // Drape coefficient, folds, lowest point... (core/drape/drape_metrics.h) when the first
+  // collider is a table or pedestal; empty otherwise.
+  std::vector<std::pair<std::string, double>> drape_metrics;
 };
 
 // JSON report: converged, status, iterations, load steps, final load factor and residual,

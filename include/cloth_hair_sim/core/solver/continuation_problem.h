@@ -1,4 +1,6 @@
 #pragma once
+#include <limits>
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -24,6 +26,12 @@ class ContinuationProblem {
   // Length scale of the model, to recognise a runaway increment.
   virtual double lengthScale() const = 0;
   virtual int activeContacts() const { return 0; }
+  // Total potential energy at the current state and load factor, whose gradient is -R; NaN
+  // when the forces have no potential (then only the path-following solver applies).
+  virtual double energy(double /*lambda*/) { return std::numeric_limits<double>::quiet_NaN(); }
+  // Factor in (0, 1] that brings an increment within the model's trust bounds (the energy
+  // minimiser's far-field Newton step can be the huge linear response); 1 = no bound.
+  virtual double stepBound(const Eigen::VectorXd& /*dq*/) const { return 1.0; }
   // Viscous stabilisation (see ArcLengthSettings::stabilization): adds -c m (x - x_anchor) to
   // R. save() also anchors; anchorHere() moves only the anchor. Without it the calls do nothing.
   virtual void setStabilization(double /*factor*/) {}

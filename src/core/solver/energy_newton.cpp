@@ -1,0 +1,197 @@
+#include "cloth_hair_sim/core/solver/energy_newton.h"
+
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/CholmodSupport>
+
+extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+
+namespace chs {
+
+namespace {
+
+constexpr double kArmijo = 1e-4;
+constexpr double kMinStep = 1e-8;
+constexpr double kMinShift = 1e-8, kMaxShift = 1e6;
+
+// Modified Hessian H = K_s + mu |diag(K_s)| (Levenberg-Marquardt's scaling, so mu is
+// dimensionless), factorised by CHOLMOD's supernodal Cholesky; the pattern is analysed once.
+class ModifiedHessian {
+ public:
+  ModifiedHessian() {
+    if (openblas_set_num_threads) openblas_set_num_threads(1);
+    // A failed factorisation is expected (it raises mu): no CHOLMOD warning on stderr.
+    llt_.cholmod().print = 0;
+  }
+  // Factorises with the smallest mu (from the last one, lowered) for which H is positive
+  // definite; false if even mu = kMaxShift fails.
+  bool factorize(const Eigen::SparseMatrix<double>& K) {
+    // A problem with a potential has a symmetric tangent (ShellElement's, the penalty's): its
+    // lower triangle, which CHOLMOD reads, is K_s.
+    H_ = K;
+    diag_ = H_.diagonal();
+    if (!analyzed_) {
+      llt_.analyzePattern(H_);
+      analyzed_ = true;
+    }
+    mu_ = mu_ < 10.0 * kMinShift ? 0.0 : 0.1 * mu_;
+    for (;;) {
+      H_.diagonal() = diag_ + mu_ * diag_.cwiseAbs();
+      llt_.factorize(H_);
+      if (llt_.info() == Eigen::Success) return true;
+      if (mu_ >= kMaxShift) return false;
+      mu_ = mu_ == 0.0 ? kMinShift : 10.0 * mu_;
+    }
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const { return llt_.solve(b); }
+  double shift() const { return mu_; }
+
+ private:
+  Eigen::SparseMatrix<double> H_;
+  Eigen::VectorXd diag_;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt_;
+  bool analyzed_ = false;
+  double mu_ = 0.0;
+};
+
+}  // namespace
+
+EnergyNewtonResult solveEnergyNewton(ContinuationProblem& p, const EnergyNewtonSettings& s,
+                                     const ProgressCallback& progress) {
+  EnergyNewtonResult out;
+  out.load_steps = 1;
+  out.lambda = 1.0;
+  const double lambda = 1.0, load = p.loadNorm();
+  Eigen::VectorXd R, F0, d, Rt;
+  Eigen::SparseMatrix<double> K;
+  p.save();
+  p.linearize(lambda, R, F0, &K);
+  double E = p.energy(lambda);
+  if (!std::isfinite(E)) {
+    out.status =
+        "the problem has no potential energy (Kawabata bending or nodal moments): use "
+        "the arc-length solver";
+    return out;
+  }
+  if (!(load > 0.0)) {
+    out.converged = true;
+    out.status = "no load: the reference state is the solution";
+    return out;
+  }
+  ModifiedHessian hessian;
+  int it = 0;
+  bool floor = false;  // stalled at the round-off floor, within 100 times the tolerance
+  for (;; ++it) {
+    out.residual = R.norm() / load;
+    ProgressEvent e{1, lambda, it, out.residual, p.activeContacts(), it};
+    out.history.push_back(e);
+    if (progress) progress(e);
+    if (cancelRequested(s.cancel)) {
+      out.cancelled = true;
+      out.status = "cancelled after " + std::to_string(it) +
+                   " Newton iterations; returning the last accepted iterate";
+      break;
+    }
+    if (out.residual <= s.tolerance || floor) {
+      floor = false;
+      out.stability = checkStability(K);
+      if (out.stability.stable || !out.stability.computed) {
+        out.converged = out.stability.computed;
+        break;
+      }
+      if (out.saddle_escapes == s.max_saddle_escapes) break;
+      // Leave the saddle along its lowest mode: E(q + b v) - E(q) = b^2 lambda_min v.Dv / 2 < 0
+      // for small b. The sign is fixed (largest component positive) so the run is reproducible;
+      // the step starts at the model's trust bound and is halved until the energy falls.
+      Eigen::VectorXd v = out.stability.mode;
+      Eigen::Index k;
+      v.cwiseAbs().maxCoeff(&k);
+      if (v[k] < 0.0) v = -v;
+      double b = p.stepBound(1e6 * v / v.norm()) * 1e6 / v.norm();
+      bool left = false;
+      for (int sign : {1, -1}) {
+        for (double t = b; t > 1e-6 * b && !left; t *= 0.5) {
+          p.increment(sign * t * v);
+          if (p.energy(lambda) < E - 1e-14 * std::abs(E))
+            left = true;
+          else
+            p.restore();
+        }
+        if (left) break;
+      }
+      ++out.saddle_escapes;
+      if (!left) break;
+      p.save();
+      p.linearize(lambda, R, F0, &K);
+      E = p.energy(lambda);
+      continue;
+    }
+    if (it == s.max_iterations) break;
+    if (!hessian.factorize(K)) {
+      out.status =
+          "the modified Hessian could not be factorised: the problem may have a "
+          "rigid-body mode";
+      break;
+    }
+    d = hessian.solve(R);
+    if (!d.allFinite()) {
+      out.status = "non-finite Newton step";
+      break;
+    }
+    d *= p.stepBound(d);
+    const double slope = -R.dot(d);  // dE/dalpha at alpha = 0, < 0 for a positive definite H
+    double alpha = 1.0;
+    bool accepted = false;
+    for (; alpha >= kMinStep; alpha *= 0.5) {
+      p.increment(alpha * d);
+      const double Et = p.energy(lambda);
+      // Armijo; failing that, a fall of the residual norm (the penalty's potential is
+      // integrated by quadrature, so near the solution, and where the energy's round-off hides
+      // the decrease, its gradient and R agree only to the quadrature error).
+      if (std::isfinite(Et) && Et <= E + kArmijo * alpha * slope) {
+        E = Et;
+        accepted = true;
+        break;
+      }
+      if (std::isfinite(Et)) {
+        p.linearize(lambda, Rt, F0, nullptr);
+        if (Rt.norm() <= (1.0 - kArmijo * alpha) * R.norm()) {
+          E = Et;
+          accepted = true;
+          break;
+        }
+      }
+      p.restore();
+    }
+    if (!accepted && out.residual <= 100.0 * s.tolerance) {
+      floor = true;
+      continue;
+    }
+    if (!accepted) {
+      out.status = "the line search found no lower energy along the Newton direction";
+      break;
+    }
+    p.save();
+    p.linearize(lambda, R, F0, &K);
+  }
+  out.iterations = it;
+  if (!out.status.empty() || out.cancelled) return out;
+  std::ostringstream msg;
+  if (out.converged) {
+    msg << "converged to a stable equilibrium in " << it << " Newton iterations";
+    if (out.saddle_escapes > 0)
+      msg << " (" << out.saddle_escapes << " saddles left along their lowest mode)";
+  } else if (out.residual <= 100.0 * s.tolerance && !out.stability.computed) {
+    msg << "equilibrium found in " << it << " iterations, but its stability could not be computed";
+  } else if (out.residual <= 100.0 * s.tolerance) {
+    msg << "unstable equilibrium (saddle, lowest eigenvalue " << out.stability.lowest_eigenvalue
+        << ") after " << out.saddle_escapes << " attempts to leave it";
+  } else {
+    msg << "no convergence in " << it << " Newton iterations (residual " << out.residual << ")";
+  }
+  out.status = msg.str();
+  return out;
+}
+
+}  // namespace chs
