@@ -23,8 +23,8 @@ SolidShellRigidity isotropicRigidity(const ShellMaterial& m) {
 }
 
 SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain thickness_strain,
-                                 double mu, double contact_stiffness)
-    : problem_(problem) {
+                                 double mu, double contact_stiffness, bool centred_band)
+    : problem_(problem), centred_band_(centred_band) {
   const QuadMesh& mesh = problem.mesh;
   if (problem.material.kawabata)
     throw InputError(
@@ -87,10 +87,14 @@ SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain th
   for (int& d : dof_)
     if (d == 0) d = num_free_++;
   mass_.setZero(num_free_);
+  translation_.assign(num_free_, false);
   double load2 = 0.0;
   for (int v = 0; v < nv; ++v) {
     for (int k = 0; k < 6; ++k)
-      if (dof_[6 * v + k] >= 0) mass_[dof_[6 * v + k]] = nodal_mass[v] * (k < 3 ? 1.0 : h * h / 4);
+      if (dof_[6 * v + k] >= 0) {
+        mass_[dof_[6 * v + k]] = nodal_mass[v] * (k < 3 ? 1.0 : h * h / 4);
+        translation_[dof_[6 * v + k]] = k < 3;
+      }
     load2 += weight_[v].squaredNorm();
   }
   load_norm_ = std::sqrt(load2);
@@ -196,8 +200,9 @@ double SolidShellModel::assemble(Eigen::VectorXd& R, Eigen::SparseMatrix<double>
 
 SolidShellModel::Penalty SolidShellModel::penalty(double gap) const {
   // The FEM shell's penalty: k_c times the penetration, its kink rounded over a band of width
-  // delta centred on the surface.
-  const double delta = smoothing_, p = 0.5 * delta - gap;
+  // delta, centred on the surface for the static solve (a cloth laid on a table is held from the
+  // start) or inside it for dynamics (a cloth laid on a table is not kicked off it).
+  const double delta = smoothing_, p = (centred_band_ ? 0.5 * delta : 0.0) - gap;
   if (p <= 0.0) return {0.0, 0.0};
   if (p >= delta) return {k_contact_ * (p - 0.5 * delta), k_contact_};
   return {0.5 * k_contact_ * p * p / delta, k_contact_ * p / delta};

@@ -113,7 +113,7 @@ Run solveDynamic(SolidShellModel& model, const SolidShellSettings& s, bool has_c
         row[it.row()] += std::abs(it.value()) / std::sqrt(M[it.row()] * M[it.col()]);
     if (has_colliders)
       for (int i = 0; i < model.size(); ++i)
-        if (M[i] > 0.0) row[i] += contact_stiffness / M[i];
+        if (model.isTranslation(i)) row[i] += contact_stiffness / M[i];
     dt = 0.5 * 2.0 / std::sqrt(row.maxCoeff());
   }
   const double a = 1.0 / (dt * dt), b = 0.5 * s.damping / dt;
@@ -181,8 +181,8 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
   problem.validate();
   validateSolidShellSettings(settings);
   if (settings.scheme == SolidShellScheme::kStatic) problem.checkStaticSupport();
-  SolidShellModel model(problem, settings.thickness_strain, settings.mu,
-                        settings.contact_stiffness);
+  SolidShellModel model(problem, settings.thickness_strain, settings.mu, settings.contact_stiffness,
+                        settings.scheme == SolidShellScheme::kStatic);
   const double k_contact = settings.contact_stiffness > 0.0
                                ? settings.contact_stiffness
                                : 100.0 * (problem.fabric ? std::max(problem.fabric->tensile_warp,

@@ -21,8 +21,10 @@ SolidShellRigidity isotropicRigidity(const ShellMaterial& material);
 // thickness, m for x_o and m h^2 / 4 for x_n.
 class SolidShellModel {
  public:
+  // centred_band: the penalty's rounding band straddles the surface (static solves) rather than
+  // lying inside it (dynamics).
   SolidShellModel(const DrapeProblem& problem, ThicknessStrain thickness_strain, double mu,
-                  double contact_stiffness);
+                  double contact_stiffness, bool centred_band = true);
 
   int size() const { return num_free_; }
   // Out-of-balance force R = P - F(D) - F_contact on the free unknowns and, if asked, the
@@ -32,6 +34,8 @@ class SolidShellModel {
   void increment(const Eigen::VectorXd& dD);
   Eigen::VectorXd freeState() const;
   void setFreeState(const Eigen::VectorXd& D);
+  // True for a free unknown of a mid-surface position (false: a director component).
+  bool isTranslation(int i) const { return translation_[i]; }
   // Lumped mass of each free unknown (before mass scaling).
   const Eigen::VectorXd& mass() const { return mass_; }
   double loadNorm() const { return load_norm_; }  // |P|
@@ -55,8 +59,10 @@ class SolidShellModel {
   std::vector<int> dof_;  // 6 per node, -1 when constrained
   int num_free_ = 0;
   Eigen::VectorXd mass_;
+  std::vector<bool> translation_;
   double load_norm_ = 0.0, length_scale_ = 1.0, k_contact_ = 0.0, smoothing_ = 0.0;
   int active_contacts_ = 0;
+  bool centred_band_ = true;
   struct Penalty {
     double force, stiffness;
   };
