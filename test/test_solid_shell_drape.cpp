@@ -132,6 +132,9 @@ TEST(SolidShellDrape, SheetOnTableByDynamicRelaxation) {
       r.wall_time_s);
   EXPECT_LT(lowest, -0.04);   // the 5 cm overhang hangs
   EXPECT_GT(deepest, -1e-4);  // penetration below 0.1 mm
+  // On 6 x 6 quads the folds are too sharp for the mesh and 40 element corners turn their
+  // director below the mid-surface (seed 001 section 4.3's interpenetration); 8 x 8 has none.
+  EXPECT_EQ(r.status.find("interpenetrate"), std::string::npos) << r.status;
 }
 
 TEST(SolidShellScene, OrthotropicFabricWithoutWarpIsBadInput) {
