@@ -44,12 +44,14 @@ struct WovenFabric {
 };
 
 // Named woven fabrics (the warp direction comes from the scene):
-//  wool_suiting_kes: a wool suiting in the KES-F ranges of /work/shared/reference/benchmarks.md
-//    (seed 001 section; seed 001's own Table 1, after Kang and Yu 1995, is lost):
-//    B1 = 0.10, B2 = 0.08 gf cm^2/cm (warp stiffer than weft), G = 0.6 gf/(cm deg),
-//    W = 22 mg/cm^2, h = 0.8 mm, nu = 0.3, tensile rigidity from EMT = 4 % at 500 gf/cm
-//    (linear secant: 500 gf/cm / 0.04 = 1.226e4 N/m warp), weft 0.8 of warp. Conversions:
-//    B x 9.80665e-5 -> N m, G x 56.19 -> N/m per rad, W x 0.01 -> kg/m^2.
+//  wool_suiting_kes: a wool suiting with typical KES-F values, not one cited measurement (no KES
+//    table of a specific suiting, nor seed 001's Table 1 after Kang and Yu 1995, could be found):
+//    B, G, W and h from the KES-F wool-suiting ranges of the project's reference notes
+//    (shared/reference/benchmarks.md, seed 001 section): B1 = 0.10 and B2 = 0.08 gf cm^2/cm
+//    (warp stiffer than weft, ratio chosen), G = 0.6 gf/(cm deg), W = 22 mg/cm^2, h = 0.8 mm,
+//    nu = 0.3; tensile rigidity as the secant at KES's 500 gf/cm with an assumed EMT of 4 %
+//    (1.226e4 N/m warp), weft 0.8 of warp. Conversions: B x 9.80665e-5 -> N m,
+//    G x 56.19 -> N/m per rad, W x 0.01 -> kg/m^2.
 std::optional<WovenFabric> wovenFabricPreset(const std::string& name);
 std::vector<std::string> wovenFabricPresetNames();
 
