@@ -815,6 +815,12 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
       s.stabilization = req.stabilization;
       s.cancel = cancel;
       r = chs::solveFemShell(problem, s, progress);
+    } else if (method == chs::DrapeMethod::kSolidShell) {
+      chs::SolidShellSettings s;
+      if (req.tolerance > 0.0) s.tolerance = req.tolerance;
+      if (req.max_iterations > 0) s.max_iterations = req.max_iterations;
+      s.cancel = cancel;
+      r = chs::solveSolidShell(problem, s, progress);
     } else {
       chs::ParticleSettings s;
       if (req.tolerance > 0.0) s.displacement_tolerance = req.tolerance;

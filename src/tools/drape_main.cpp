@@ -17,6 +17,7 @@
 #include "cloth_hair_sim/core/io/mesh_writer.h"
 #include "cloth_hair_sim/core/io/scene.h"
 #include "cloth_hair_sim/core/particle/particle_static_solver.h"
+#include "cloth_hair_sim/core/solid_shell/solid_shell_solver.h"
 
 namespace {
 
@@ -30,7 +31,7 @@ struct Options {
 };
 
 const char* kUsage =
-    "usage: drape SCENE.yaml [--out DIR] [--method fem_shell|particle] [--quiet]\n";
+    "usage: drape SCENE.yaml [--out DIR] [--method fem_shell|particle|solid_shell] [--quiet]\n";
 
 Options parseArgs(int argc, char** argv) {
   Options o;
@@ -62,11 +63,16 @@ Options parseArgs(int argc, char** argv) {
 }
 
 chs::DrapeResult solve(const chs::Scene& scene, const chs::ProgressCallback& progress) {
+  if (scene.problem.fabric && scene.method != chs::DrapeMethod::kSolidShell)
+    throw chs::InputError("material: the orthotropic woven fabric " + scene.material_name +
+                          " is supported by method solid_shell only");
   switch (scene.method) {
     case chs::DrapeMethod::kFemShell:
       return chs::solveFemShell(scene.problem, scene.fem_shell, progress);
     case chs::DrapeMethod::kParticle:
       return chs::solveParticleStatic(scene.problem, scene.particle, progress);
+    case chs::DrapeMethod::kSolidShell:
+      return chs::solveSolidShell(scene.problem, scene.solid_shell, progress);
   }
   throw chs::InputError("unknown method");
 }
@@ -108,10 +114,12 @@ int run(int argc, char** argv) {
   context.scene_name = scene.name;
   context.scene_file = scene.file;
   context.method = method;
-  context.settings = scene.method == chs::DrapeMethod::kFemShell
-                         ? chs::settingsList(scene.fem_shell)
-                         : chs::settingsList(scene.particle);
-  context.material = chs::materialList(scene.problem.material);
+  context.settings =
+      scene.method == chs::DrapeMethod::kFemShell   ? chs::settingsList(scene.fem_shell)
+      : scene.method == chs::DrapeMethod::kParticle ? chs::settingsList(scene.particle)
+                                                    : chs::settingsList(scene.solid_shell);
+  context.material = scene.problem.fabric ? chs::materialList(*scene.problem.fabric)
+                                          : chs::materialList(scene.problem.material);
   for (const auto& c : scene.problem.colliders) context.colliders.push_back(c->describe());
   context.vertices = scene.problem.mesh.numVertices();
   context.quads = scene.problem.mesh.numQuads();
@@ -144,9 +152,11 @@ int run(int argc, char** argv) {
     }
   };
   picture("convergence plot", [&] {
-    chs::plotConvergence(
-        result, (dir / scene.output.convergence).string(), title,
-        scene.method == chs::DrapeMethod::kFemShell ? scene.fem_shell.tolerance : 0.0);
+    chs::plotConvergence(result, (dir / scene.output.convergence).string(), title,
+                         scene.method == chs::DrapeMethod::kFemShell ? scene.fem_shell.tolerance
+                         : scene.method == chs::DrapeMethod::kSolidShell
+                             ? scene.solid_shell.tolerance
+                             : 0.0);
   });
   picture("drape picture", [&] {
     chs::plotDrape(scene.problem.mesh, positions, scene.colliders,

@@ -10,6 +10,7 @@ namespace chs {
 
 void DrapeProblem::validate() const {
   material.validate();
+  if (fabric) fabric->validate();
   checkMesh(mesh);
   checkSceneScale(mesh);
   if (!gravity.allFinite()) throw InputError("gravity must be finite");

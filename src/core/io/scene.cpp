@@ -335,6 +335,99 @@ ParticleSettings parseParticle(const YAML::Node& node) {
   return p;
 }
 
+// An orthotropic woven fabric: {woven: preset | {preset, fields}, warp: [x, y, z]}. Sets the
+// problem's fabric and, for validation and the weight, its isotropic equivalent (the same
+// thickness and density, E from the mean bending rigidity).
+void parseWoven(const YAML::Node& node, Scene& scene) {
+  Section s(node, "material");
+  WovenFabric f;
+  const YAML::Node w = s.get("woven");
+  auto preset = [&](const std::string& name, const std::string& key) {
+    auto p = wovenFabricPreset(name);
+    if (!p) {
+      std::string names;
+      for (const auto& n : wovenFabricPresetNames()) names += (names.empty() ? "" : ", ") + n;
+      fail(key, "unknown woven fabric preset '" + name + "' (known: " + names + ")");
+    }
+    return *p;
+  };
+  if (w.IsScalar()) {
+    scene.material_name = w.Scalar();
+    f = preset(w.Scalar(), "material.woven");
+  } else {
+    Section ws(w, "material.woven");
+    const bool has_preset = ws.has("preset");
+    scene.material_name = has_preset ? ws.text("preset", "") : "custom woven";
+    if (has_preset) f = preset(scene.material_name, ws.key("preset"));
+    auto value = [&](const char* k, double& field) {
+      if (ws.has(k))
+        field = ws.number(k);
+      else if (!has_preset)
+        fail(ws.key(k), "missing (no preset to take it from)");
+    };
+    value("tensile_warp", f.tensile_warp);
+    value("tensile_weft", f.tensile_weft);
+    value("poisson", f.poisson);
+    value("shear", f.shear);
+    value("bending_warp", f.bending_warp);
+    value("bending_weft", f.bending_weft);
+    value("thickness", f.thickness);
+    value("areal_density", f.areal_density);
+    ws.done();
+  }
+  if (!s.has("warp"))
+    fail("material.warp",
+         "missing: an orthotropic fabric needs the direction of its warp yarns in the flat "
+         "garment, e.g. warp: [1, 0, 0]");
+  f.warp = s.vector("warp", 3);
+  s.done();
+  try {
+    f.validate();
+  } catch (const InputError& e) {
+    fail("material", e.what());
+  }
+  ShellMaterial& m = scene.problem.material;
+  m.poisson = f.poisson;
+  m.thickness = f.thickness;
+  m.areal_density = f.areal_density;
+  m.young = 12.0 * (1.0 - f.poisson * f.poisson) * std::sqrt(f.bending_warp * f.bending_weft) /
+            std::pow(f.thickness, 3);
+  scene.problem.fabric = f;
+  scene.material_name = "woven " + scene.material_name;
+}
+
+SolidShellSettings parseSolidShell(const YAML::Node& node) {
+  Section s(node, "solid_shell");
+  SolidShellSettings o;
+  const std::string scheme = s.text("scheme", "static");
+  if (scheme != "static" && scheme != "dynamic")
+    fail(s.key("scheme"), "must be static or dynamic, got '" + scheme + "'");
+  o.scheme = scheme == "static" ? SolidShellScheme::kStatic : SolidShellScheme::kDynamic;
+  const std::string strain = s.text("thickness_strain", "green");
+  if (strain != "green" && strain != "quasi_engineering")
+    fail(s.key("thickness_strain"), "must be green or quasi_engineering, got '" + strain + "'");
+  o.thickness_strain =
+      strain == "green" ? ThicknessStrain::kGreen : ThicknessStrain::kQuasiEngineering;
+  o.mu = s.number("mu", o.mu);
+  o.tolerance = s.positive("tolerance", o.tolerance);
+  o.multiplier = s.positive("multiplier", o.multiplier);
+  o.free_length = s.number("free_length", o.free_length);
+  o.max_iterations = s.integer("max_iterations", o.max_iterations, 1);
+  o.damping = s.number("damping", o.damping);
+  o.mass_scaling = s.positive("mass_scaling", o.mass_scaling);
+  o.time_step = s.number("time_step", o.time_step);
+  o.end_time = s.positive("end_time", o.end_time);
+  o.contact_stiffness = s.number("contact_stiffness", o.contact_stiffness);
+  o.progress_interval = s.integer("progress_interval", o.progress_interval, 1);
+  s.done();
+  try {
+    validateSolidShellSettings(o);
+  } catch (const InputError& e) {
+    fail("solid_shell", e.what());
+  }
+  return o;
+}
+
 SceneOutput parseOutput(const YAML::Node& node, SceneOutput out) {
   Section s(node, "output");
   out.directory = s.text("directory", out.directory);
@@ -359,7 +452,16 @@ Scene parse(const YAML::Node& root, const std::string& base_dir, const std::stri
   scene.method = parseMethod(s.text("method", "fem_shell"));
   scene.problem.gravity = s.vector3("gravity", scene.problem.gravity);
   scene.problem.mesh = parseGarment(s.require("garment"), base_dir);
-  scene.problem.material = parseMaterial(s.require("material"), "material", scene.material_name);
+  const YAML::Node material = s.require("material");
+  if (material.IsMap() && material["woven"])
+    parseWoven(material, scene);
+  else if (material.IsScalar() && wovenFabricPreset(material.Scalar()))
+    fail("material", "'" + material.Scalar() +
+                         "' is an orthotropic woven fabric and needs its warp direction: write "
+                         "{woven: " +
+                         material.Scalar() + ", warp: [x, y, z]}");
+  else
+    scene.problem.material = parseMaterial(material, "material", scene.material_name);
   if (YAML::Node colliders = s.get("colliders")) {
     if (!colliders.IsSequence()) fail("colliders", "must be a list");
     for (std::size_t i = 0; i < colliders.size(); ++i) {
@@ -371,6 +473,7 @@ Scene parse(const YAML::Node& root, const std::string& base_dir, const std::stri
   if (s.has("boundary")) scene.problem.bc = parseBoundary(s.get("boundary"), scene.problem.mesh);
   if (s.has("fem_shell")) scene.fem_shell = parseFemShell(s.get("fem_shell"));
   if (s.has("particle")) scene.particle = parseParticle(s.get("particle"));
+  if (s.has("solid_shell")) scene.solid_shell = parseSolidShell(s.get("solid_shell"));
   scene.output.directory = "drape_output/" + scene.name;
   if (s.has("output")) scene.output = parseOutput(s.get("output"), scene.output);
   s.done();
@@ -381,13 +484,22 @@ Scene parse(const YAML::Node& root, const std::string& base_dir, const std::stri
 }  // namespace
 
 std::string methodName(DrapeMethod method) {
-  return method == DrapeMethod::kFemShell ? "fem_shell" : "particle";
+  switch (method) {
+    case DrapeMethod::kFemShell:
+      return "fem_shell";
+    case DrapeMethod::kParticle:
+      return "particle";
+    case DrapeMethod::kSolidShell:
+      return "solid_shell";
+  }
+  return "unknown";
 }
 
 DrapeMethod parseMethod(const std::string& name) {
   if (name == "fem_shell") return DrapeMethod::kFemShell;
   if (name == "particle") return DrapeMethod::kParticle;
-  throw InputError("method: must be fem_shell or particle, got '" + name + "'");
+  if (name == "solid_shell") return DrapeMethod::kSolidShell;
+  throw InputError("method: must be fem_shell, particle or solid_shell, got '" + name + "'");
 }
 
 Scene parseScene(const std::string& yaml_text, const std::string& base_dir,
@@ -456,6 +568,36 @@ std::vector<std::pair<std::string, double>> materialList(const ShellMaterial& m)
           {"areal_density_kg_m2", m.areal_density},
           {"shear_correction", m.shear_correction},
           {"bending_rigidity_Nm", m.bendingStiffness()}};
+}
+
+std::vector<std::pair<std::string, double>> settingsList(const SolidShellSettings& s) {
+  return {{"dynamic", s.scheme == SolidShellScheme::kDynamic ? 1.0 : 0.0},
+          {"quasi_engineering_thickness_strain",
+           s.thickness_strain == ThicknessStrain::kQuasiEngineering ? 1.0 : 0.0},
+          {"mu", s.mu},
+          {"tolerance", s.tolerance},
+          {"multiplier", s.multiplier},
+          {"free_length", s.free_length},
+          {"max_iterations", s.max_iterations},
+          {"damping", s.damping},
+          {"mass_scaling", s.mass_scaling},
+          {"time_step", s.time_step},
+          {"end_time", s.end_time},
+          {"contact_stiffness", s.contact_stiffness}};
+}
+
+std::vector<std::pair<std::string, double>> materialList(const WovenFabric& f) {
+  return {{"tensile_warp_N_m", f.tensile_warp},
+          {"tensile_weft_N_m", f.tensile_weft},
+          {"poisson", f.poisson},
+          {"shear_N_m", f.shear},
+          {"bending_warp_Nm", f.bending_warp},
+          {"bending_weft_Nm", f.bending_weft},
+          {"thickness_m", f.thickness},
+          {"areal_density_kg_m2", f.areal_density},
+          {"warp_x", f.warp.x()},
+          {"warp_y", f.warp.y()},
+          {"warp_z", f.warp.z()}};
 }
 
 }  // namespace chs

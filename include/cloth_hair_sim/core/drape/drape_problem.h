@@ -1,5 +1,6 @@
 #pragma once
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -7,6 +8,7 @@
 
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/material/shell_material.h"
+#include "cloth_hair_sim/core/material/woven_fabric.h"
 #include "cloth_hair_sim/core/mesh/quad_mesh.h"
 
 namespace chs {
@@ -36,6 +38,9 @@ struct BoundaryConditions {
 struct DrapeProblem {
   QuadMesh mesh;  // reference (stress-free) configuration
   ShellMaterial material;
+  // An orthotropic woven fabric (solid_shell method only); material then holds its isotropic
+  // equivalent (thickness, areal density, E from the mean bending rigidity).
+  std::optional<WovenFabric> fabric;
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
   RigidSurfaces colliders;
   BoundaryConditions bc;

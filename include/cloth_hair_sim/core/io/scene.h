@@ -7,12 +7,13 @@
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/io/collider_spec.h"
 #include "cloth_hair_sim/core/particle/particle_static_solver.h"
+#include "cloth_hair_sim/core/solid_shell/solid_shell_solver.h"
 
 namespace chs {
 
-enum class DrapeMethod { kFemShell, kParticle };
+enum class DrapeMethod { kFemShell, kParticle, kSolidShell };
 std::string methodName(DrapeMethod method);
-// Throws InputError for anything but fem_shell | particle.
+// Throws InputError for anything but fem_shell | particle | solid_shell.
 DrapeMethod parseMethod(const std::string& name);
 
 // File names of a run's results, relative to directory (the drape tool's --out overrides it).
@@ -28,7 +29,7 @@ struct SceneOutput {
 // A drape scene file turned into a validated problem plus how to solve it and where to put the
 // results. YAML, SI units (m, Pa, kg/m^2, N); every key is checked, unknown keys are errors:
 //   name: text                          (default: the file's stem)
-//   method: fem_shell | particle        (default fem_shell)
+//   method: fem_shell | particle | solid_shell   (default fem_shell)
 //   gravity: [gx, gy, gz]               (default [0, 0, -9.81])
 //   garment: one of
 //     rectangle: {size: [lx, ly], cells: [nx, ny], centre: [x, y, z]}
@@ -36,7 +37,11 @@ struct SceneOutput {
 //     file: path | {path: p, scale: s, translate: [x, y, z]}  (path relative to the scene)
 //   material: preset name (cotton_eischen, wool_suiting) or {preset: name (optional),
 //     young [Pa], poisson, thickness [m], areal_density [kg/m^2], shear_correction,
-//     bending_rigidity [N m] (instead of young)}: without a preset all four are required
+//     bending_rigidity [N m] (instead of young)}: without a preset all four are required;
+//     or an orthotropic woven fabric (solid_shell only): {woven: preset name (wool_suiting_kes)
+//     or {preset (optional), tensile_warp, tensile_weft [N/m], poisson, shear [N/m],
+//     bending_warp, bending_weft [N m], thickness [m], areal_density [kg/m^2]},
+//     warp: [x, y, z] (required: the warp direction in the flat garment)}
 //   colliders: list of one-key mappings:
 //     plane: {point, normal} | box: {min, max} | sphere: {centre, radius}
 //     table: {top_centre: [x, y, z], size: [sx, sy], depth}   (a box below its top face)
@@ -55,6 +60,8 @@ struct SceneOutput {
 //     {vertices: [..]}, {nearest: [x, y, z]}, {plane: {axis: x|y|z, value, tolerance}},
 //     {box: {min, max}}, {boundary: true}
 //   fem_shell: FemShellSettings fields by name
+//   solid_shell: SolidShellSettings fields by name; scheme: static | dynamic,
+//     thickness_strain: green | quasi_engineering
 //   particle: ParticleSettings fields by name (numbers and restart; seams not yet), with
 //     stretch_compression and shear_compression for the network's D' and B'
 //   output: {directory, obj, ply, report, convergence, picture}
@@ -67,6 +74,7 @@ struct Scene {
   DrapeMethod method = DrapeMethod::kFemShell;
   FemShellSettings fem_shell;
   ParticleSettings particle;
+  SolidShellSettings solid_shell;
   SceneOutput output;
 };
 
@@ -81,5 +89,7 @@ Scene parseScene(const std::string& yaml_text, const std::string& base_dir,
 std::vector<std::pair<std::string, double>> settingsList(const FemShellSettings& settings);
 std::vector<std::pair<std::string, double>> settingsList(const ParticleSettings& settings);
 std::vector<std::pair<std::string, double>> materialList(const ShellMaterial& material);
+std::vector<std::pair<std::string, double>> settingsList(const SolidShellSettings& settings);
+std::vector<std::pair<std::string, double>> materialList(const WovenFabric& fabric);
 
 }  // namespace chs

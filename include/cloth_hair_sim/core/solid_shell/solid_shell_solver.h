@@ -1,0 +1,45 @@
+#pragma once
+#include "cloth_hair_sim/core/common/cancel_flag.h"
+#include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/solid_shell/solid_shell_element.h"
+
+namespace chs {
+
+// How the solid-shell drape is solved (seed 001):
+//  kStatic: the iterative scheme of section 3, eqs. (16)-(18): full load, Newton-Raphson
+//    refinements K_t dD = P - F scaled by the multiplier lambda = c L_f / max|dD| (capped at 1,
+//    so that the last iterations are plain Newton and converge quadratically).
+//  kDynamic: explicit central differences of section 4, eqs. (19)-(23), with lumped mass and
+//    Rayleigh mass damping alpha M v; with mass_scaling > 1 (seed: 100) this is the dynamic
+//    relaxation of section 4.2, whose end state is the static drape.
+enum class SolidShellScheme { kStatic, kDynamic };
+
+struct SolidShellSettings {
+  SolidShellScheme scheme = SolidShellScheme::kStatic;
+  ThicknessStrain thickness_strain = ThicknessStrain::kGreen;
+  double mu = 0.5;          // switch of the quasi-engineering strain (24), in (0, 1)
+  double tolerance = 1e-6;  // relative out-of-balance force |P - F| / |P| at convergence
+  // Static scheme.
+  double multiplier = 1e-2;  // c of eq. (18); the seed uses 1e-3 .. 1e-2
+  double free_length = 0.0;  // L_f [m]; 0 takes the largest side of the garment's bounding box
+  int max_iterations = 20000;
+  // Dynamic scheme.
+  double damping = 5.0;       // alpha of eq. (20) [1/s]
+  double mass_scaling = 1.0;  // masses x this, weight unchanged
+  double time_step = 0.0;     // [s]; 0 = 0.5 x the stable step 2 / omega_max (Gershgorin bound)
+  double end_time = 10.0;     // [s]; the run stops earlier once the tolerance is met
+  double contact_stiffness = 0.0;  // k_c [N/m]; 0 = a hundred times the membrane rigidity
+  int progress_interval = 100;     // iterations (steps) between progress events
+  const CancelFlag* cancel = nullptr;
+};
+
+// Throws InputError naming the setting that makes no sense.
+void validateSolidShellSettings(const SolidShellSettings& settings);
+
+// Solves the drape; never throws on non-convergence (the result then holds the last state,
+// converged = false and why). Throws InputError for input that makes no sense. The status also
+// reports directors found below the deformed mid-surface (top and bottom surfaces crossed).
+DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSettings& settings,
+                            const ProgressCallback& progress = {});
+
+}  // namespace chs
