@@ -58,6 +58,23 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   colliders_.setColliders(withUrdfColliders(pnh_, collidersParam(pnh_)));
 
   world_ = chs::World(params_.world);
+  const ros::NodeHandle hair(pnh_, "hair");
+  hair.param("display_strands", hair_display_strands_, hair_display_strands_);
+  hair.param("colour", hair_colour_, hair_colour_);
+  hair.param("line_width", hair_line_width_, hair_line_width_);
+  hair.param("grid_spacing", hair_grid_spacing_, hair_grid_spacing_);
+  if (hair_display_strands_ < 0 || hair_display_strands_ > chs::rod::kMaxDisplayStrands)
+    throw chs::InputError("parameter ~hair/display_strands must be 0.." +
+                          std::to_string(chs::rod::kMaxDisplayStrands));
+  if (hair_colour_.size() != 4)
+    throw chs::InputError("parameter ~hair/colour must be [r, g, b, a] in 0..1");
+  for (float c : hair_colour_)
+    if (!(c >= 0.0f && c <= 1.0f))
+      throw chs::InputError("parameter ~hair/colour must be [r, g, b, a] in 0..1");
+  if (!(hair_line_width_ > 0.0) || !std::isfinite(hair_line_width_))
+    throw chs::InputError("parameter ~hair/line_width must be positive (m)");
+  if (!(hair_grid_spacing_ > 0.0) || !std::isfinite(hair_grid_spacing_))
+    throw chs::InputError("parameter ~hair/grid_spacing must be positive (m)");
   for (const auto& c : colliders_.colliders()) {
     try {
       chs::checkName(c.name);
@@ -73,6 +90,8 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   load_srv_ = pnh_.advertiseService("load_garment", &SimNode::loadGarment, this);
   remove_srv_ = pnh_.advertiseService("remove_garment", &SimNode::removeGarment, this);
   list_srv_ = pnh_.advertiseService("list_garments", &SimNode::listGarments, this);
+  load_hair_srv_ = pnh_.advertiseService("load_hair", &SimNode::loadHair, this);
+  remove_hair_srv_ = pnh_.advertiseService("remove_hair", &SimNode::removeHair, this);
   reset_srv_ = pnh_.advertiseService("reset", &SimNode::reset, this);
   pause_srv_ = pnh_.advertiseService("pause", &SimNode::pause, this);
   step_srv_ = pnh_.advertiseService("step", &SimNode::step, this);
@@ -139,6 +158,7 @@ chs::World SimNode::worldOf(const std::map<std::string, Garment>& garments) cons
   world.setColliders(colliders_.surfaces(), {}, colliders_.frictions());
   for (const auto& [name, g] : garments)
     if (g.body) world.add(name, g.body);
+  for (const auto& [name, h] : hairs_) world.add(name, h.body);
   return world;
 }
 
@@ -147,6 +167,7 @@ double SimNode::substepLimit() const {
   // Each backend's bound carries its own margin (the hybrid shell's also shrinks with speed
   // through its CFL condition).
   for (const auto& [name, g] : garments_) h = std::min(h, g.dynamics->stableTimeStep());
+  for (const auto& [name, hair] : hairs_) h = std::min(h, hair.body->stableTimeStep());
   return h;
 }
 
@@ -192,7 +213,10 @@ void SimNode::stepWorld(double h, int depth) {
   std::vector<Garment*> diverging;
   for (auto& [name, g] : garments_)
     if (g.body && diverged(g)) diverging.push_back(&g);
-  if (diverging.empty() && report.converged) {
+  std::vector<Hair*> diverging_hair;
+  for (auto& [name, hair] : hairs_)
+    if (diverged(hair)) diverging_hair.push_back(&hair);
+  if (diverging.empty() && diverging_hair.empty() && report.converged) {
     addColliderLoads(h);
     return;
   }
@@ -206,13 +230,14 @@ void SimNode::stepWorld(double h, int depth) {
                       "as two half steps",
                       joined(report.unconverged).c_str(), h);
   }
-  if (!diverging.empty()) ++rollbacks_;
+  if (!diverging.empty() || !diverging_hair.empty()) ++rollbacks_;
   if (depth < 4) {
     stepWorld(0.5 * h, depth + 1);
     stepWorld(0.5 * h, depth + 1);
     return;
   }
-  if (diverging.empty()) {  // the solve still falls short at a sixteenth: its iterate is kept
+  if (diverging.empty() &&
+      diverging_hair.empty()) {  // the solve still falls short at a sixteenth: its iterate is kept
     world_.step(h);
     addColliderLoads(h);
     return;
@@ -225,6 +250,14 @@ void SimNode::stepWorld(double h, int depth) {
         std::vector<Eigen::Vector3d>(g->dynamics->numVertices(), Eigen::Vector3d::Zero()));
     ROS_ERROR_THROTTLE(5.0, "garment '%s' diverges even at dt %g s: stopped in place",
                        g->name.c_str(), h);
+  }
+  for (Hair* hair : diverging_hair) {
+    ++hair->diverged_stops;
+    for (int s = 0; s < hair->body->numStrands(); ++s)
+      hair->body->setVelocities(s, std::vector<Eigen::Vector3d>(hair->body->strand(s).numVertices(),
+                                                                Eigen::Vector3d::Zero()));
+    ROS_ERROR_THROTTLE(5.0, "hair '%s' diverges even at dt %g s: stopped in place",
+                       hair->name.c_str(), h);
   }
 }
 
@@ -297,6 +330,7 @@ void SimNode::advance(int count, double h) {
   for (int i = 0; i < count; ++i) {
     const double alpha = static_cast<double>(i + 1) / count;
     for (auto& [g, a] : attached) a->pinAt(*g->dynamics, alpha);
+    for (auto& [name, hair] : hairs_) hair.clampAt(alpha);
     if (any_moving) {
       try {
         chs::RigidSurfaces surfaces;
@@ -334,6 +368,7 @@ void SimNode::advance(int count, double h) {
   // The next update starts where this one ended.
   for (const auto& m : colliders) collider_from_[m.collider->name] = m.collider->world_from_frame;
   for (auto& [g, a] : attached) a->from = a->to;
+  for (auto& [name, hair] : hairs_) hair.from = hair.to;
 }
 
 bool SimNode::lookupFrame(const std::string& frame, double timeout, Eigen::Isometry3d& pose,
@@ -375,26 +410,35 @@ void SimNode::refreshAttachments() {
     Eigen::Isometry3d pose;
   };
   std::map<std::string, Lookup> frames;  // one lookup per frame and update
-  auto update = [&](FrameAttachment& a) {
-    auto it = frames.find(a.frame_id);
+  auto lookup = [&](const std::string& frame_id, const char* what) -> const Lookup& {
+    auto it = frames.find(frame_id);
     if (it == frames.end()) {
       Lookup l;
       std::string error;
-      l.ok = lookupFrame(a.frame_id, params_.tf_timeout, l.pose, &error);
+      l.ok = lookupFrame(frame_id, params_.tf_timeout, l.pose, &error);
       if (!l.ok)
         ROS_WARN_THROTTLE(5.0,
-                          "frame '%s' of attached vertices has no transform to '%s' (%s): they "
-                          "hold their last pose",
-                          a.frame_id.c_str(), params_.world_frame.c_str(), error.c_str());
-      it = frames.emplace(a.frame_id, l).first;
+                          "frame '%s' of %s has no transform to '%s' (%s): they hold their "
+                          "last pose",
+                          frame_id.c_str(), what, params_.world_frame.c_str(), error.c_str());
+      it = frames.emplace(frame_id, l).first;
     }
-    a.stale = !it->second.ok;
-    if (it->second.ok) a.to = it->second.pose;
     transforms_ok_ = transforms_ok_ && it->second.ok;
+    return it->second;
+  };
+  auto update = [&](FrameAttachment& a) {
+    const Lookup& l = lookup(a.frame_id, "attached vertices");
+    a.stale = !l.ok;
+    if (l.ok) a.to = l.pose;
   };
   for (auto& [name, g] : garments_)
     for (auto& a : g.frame_pins) update(a);
   for (auto& [name, grasp] : grasps_) update(grasp.attachment);
+  for (auto& [name, hair] : hairs_) {
+    const Lookup& l = lookup(hair.frame_id, "hair roots");
+    hair.stale = !l.ok;
+    if (l.ok) hair.to = l.pose;
+  }
 }
 
 void SimNode::publishGraspWrenches(double duration) {
@@ -466,7 +510,8 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   double elapsed =
       event.last_real.isZero() ? period : (event.current_real - event.last_real).toSec();
   if (!(elapsed > 0.0)) elapsed = period;
-  if (paused_ || garments_.empty()) {  // keeps the substep of the last ~step for the status
+  if (paused_ || (garments_.empty() &&
+                  hairs_.empty())) {  // keeps the substep of the last ~step for the status
     last_.substeps = 0;
     last_.wall_per_step = last_.real_time_factor = 0.0;
     publishGraspWrenches(0.0);
@@ -510,7 +555,7 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
     std::lock_guard<std::mutex> lock(mutex_);
     s.header.stamp = ros::Time::now();
     s.header.frame_id = params_.world_frame;
-    s.state = garments_.empty() ? "idle" : paused_ ? "paused" : "running";
+    s.state = garments_.empty() && hairs_.empty() ? "idle" : paused_ ? "paused" : "running";
     s.sim_time = sim_time_;
     s.steps = steps_;
     s.dt = last_.dt;
@@ -535,6 +580,11 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
           s.deepest_penetration,
           chs::deepestPenetration(g.dynamics->displaySurface().vertices, g.dynamics->colliders())
               .depth);
+    }
+    for (const auto& [name, h] : hairs_) {
+      s.vertices += h.numVertices();
+      s.particles += h.numVertices();
+      s.kinetic_energy += h.body->kineticEnergy();
     }
     s.rollbacks = rollbacks_;
     s.unconverged_solves = unconverged_solves_;
@@ -564,6 +614,9 @@ void SimNode::onMarkerTimer(const ros::TimerEvent&) {
       mesh.header.frame_id = params_.world_frame;
       g.mesh_pub.publish(mesh);
     }
+    int hair_id = 0;
+    for (const auto& [name, h] : hairs_)
+      array.markers.push_back(hairMarker(h, hair_id++, hair_colour_, hair_line_width_));
     if (params_.show_colliders) {
       int id = 0;
       for (const auto& c : colliders_.colliders()) {
@@ -593,8 +646,8 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
   }
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (garments_.count(req.name)) {
-      res.message = who + "a garment of that name is loaded; remove it first";
+    if (garments_.count(req.name) || hairs_.count(req.name)) {
+      res.message = who + "a garment or hair of that name is loaded; remove it first";
       return true;
     }
   }
@@ -634,8 +687,8 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     Garment g = buildGarment(req, world_from_frame, attach_frames, params);
     g.mesh_pub = pnh_.advertise<cloth_hair_sim::GarmentMesh>("garments/" + req.name + "/mesh", 1);
     std::lock_guard<std::mutex> lock(mutex_);
-    if (garments_.count(req.name)) {
-      res.message = who + "a garment of that name was loaded meanwhile";
+    if (garments_.count(req.name) || hairs_.count(req.name)) {
+      res.message = who + "a garment or hair of that name was loaded meanwhile";
       return true;
     }
     if (g.body) world_.add(req.name, g.body);  // refuses a garment that does not fit the grid
@@ -677,6 +730,13 @@ bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
     res.names.push_back(name);
     res.vertices.push_back(g.dynamics->numVertices());
     res.materials.push_back(g.material_name);
+    res.kinds.push_back("garment");
+  }
+  for (const auto& [name, h] : hairs_) {
+    res.names.push_back(name);
+    res.vertices.push_back(h.numVertices());
+    res.materials.push_back(h.material_name);
+    res.kinds.push_back("hair");
   }
   return true;
 }
@@ -712,6 +772,9 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
       // Grasps held the old state: released.
       for (const auto& n : dropGrasps(name)) released.push_back(n);
     }
+    // Hair restarts at rest where its root frame is now.
+    const chs::rod::HairSettings hair_settings = hairSettings();
+    for (auto& [name, h] : hairs_) rebuildHairBody(h, h.to, hair_settings);
     world_ = worldOf(garments_);
   } catch (const std::exception& e) {
     world_ = worldOf(garments_);  // the garments reset before the failure, with the others
@@ -725,7 +788,8 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
   unconverged_solves_ = 0;
   last_ = UpdateStats();
   res.success = true;
-  res.message = "reset " + std::to_string(garments_.size()) + " garments to their reference";
+  res.message = "reset " + std::to_string(garments_.size()) + " garments to their reference and " +
+                std::to_string(hairs_.size()) + " hair to rest";
   if (!released.empty()) res.message += "; grasps released: " + joined(released);
   return true;
 }

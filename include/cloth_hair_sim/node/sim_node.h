@@ -19,6 +19,7 @@
 #include "cloth_hair_sim/GraspGarment.h"
 #include "cloth_hair_sim/ListGarments.h"
 #include "cloth_hair_sim/LoadGarment.h"
+#include "cloth_hair_sim/LoadHair.h"
 #include "cloth_hair_sim/ReleaseGrasp.h"
 #include "cloth_hair_sim/RemoveGarment.h"
 #include "cloth_hair_sim/SimConfig.h"
@@ -28,6 +29,7 @@
 #include "cloth_hair_sim/node/drape_action.h"
 #include "cloth_hair_sim/node/garment.h"
 #include "cloth_hair_sim/node/grasp.h"
+#include "cloth_hair_sim/node/hair.h"
 #include "cloth_hair_sim/node/sim_diagnostics.h"
 #include "cloth_hair_sim/node/sim_params.h"
 
@@ -58,6 +60,15 @@ class SimNode {
                    cloth_hair_sim::LoadGarment::Response& res);
   bool removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
                      cloth_hair_sim::RemoveGarment::Response& res);
+  // ~load_hair, ~remove_hair (sim_node_hair.cpp): hair as a body of world_; a refused load
+  // leaves the world as it was.
+  bool loadHair(cloth_hair_sim::LoadHair::Request& req, cloth_hair_sim::LoadHair::Response& res);
+  bool removeHair(cloth_hair_sim::RemoveGarment::Request& req,
+                  cloth_hair_sim::RemoveGarment::Response& res);
+  // Under mutex_: the settings hair is built with, on the world's grid once it has one.
+  chs::rod::HairSettings hairSettings() const;
+  // Under mutex_: true if the hair's state is not finite or a vertex is faster than max_speed.
+  bool diverged(const Hair& h) const;
   bool listGarments(cloth_hair_sim::ListGarments::Request& req,
                     cloth_hair_sim::ListGarments::Response& res);
   bool reset(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
@@ -102,7 +113,8 @@ class SimNode {
                     const std::vector<double>& frictions);
   // Under mutex_: the parameters a garment is built with: on the world's grid once it has one.
   SimParams garmentParams() const;
-  // A world holding the mpm garments (throws chs::InputError for one that does not fit).
+  // A world holding the mpm garments and the hair (throws chs::InputError for a body that does
+  // not fit).
   chs::World worldOf(const std::map<std::string, Garment>& garments) const;
   // Under mutex_: one substep of the world's garments together; a diverged step or an implicit
   // solve short of its tolerance is rolled back and retried as two halves, a few levels deep.
@@ -138,6 +150,13 @@ class SimNode {
   std::mutex mutex_;
   ColliderTracker colliders_;
   std::map<std::string, Garment> garments_;
+  std::map<std::string, Hair> hairs_;  // bodies of world_ too
+  // ~hair/: display strands per hair when a load asks for the default, the markers' colour
+  // [r, g, b, a] and line width [m], and dx when hair is the world's first body.
+  int hair_display_strands_ = 100;
+  std::vector<float> hair_colour_{0.45f, 0.3f, 0.15f, 1.0f};
+  double hair_line_width_ = 0.0005;
+  double hair_grid_spacing_ = 0.01;
   // The mpm garments as bodies of one world: one grid, contact and friction between them.
   chs::World world_;
   std::vector<std::string> active_colliders_;  // the world's collider order (those with a pose)
@@ -171,7 +190,8 @@ class SimNode {
 
   ros::Publisher status_pub_, marker_pub_;
   ros::ServiceServer load_srv_, remove_srv_, list_srv_, reset_srv_, pause_srv_, step_srv_,
-      drape_srv_, grasp_srv_, release_srv_, save_state_srv_, load_state_srv_;
+      drape_srv_, grasp_srv_, release_srv_, save_state_srv_, load_state_srv_, load_hair_srv_,
+      remove_hair_srv_;
   ros::Timer step_timer_, status_timer_, marker_timer_;
   std::unique_ptr<SimDiagnostics> diagnostics_;
   // Last: destroyed first, it cancels and waits for a running drape that uses the members above.
