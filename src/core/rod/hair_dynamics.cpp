@@ -216,7 +216,9 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
                                          dt * f[k]);
     }
   }
-  if (s.clamped) {
+  s.clamp = HoldingWrench();
+  // (None when the solve could not start: a configuration where the energy is not defined.)
+  if (s.clamped && result.held_reaction.size() == rod.numDofs()) {
     // The reactions on the held unknowns: forces on x_0 and x_1, the moment about the first
     // edge on its angle.
     const Eigen::VectorXd& r = result.held_reaction;
