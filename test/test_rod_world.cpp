@@ -85,12 +85,13 @@ TEST(HairWorld, MomentumThroughGridStages) {
   EXPECT_LT(worst, 1e-9);
 }
 
-// A straight strand lying on a table: its weight reaches the table through the grid's and the
-// vertices' Coulomb conditions, and it stays where it lies.
+// A straight strand lying on a table (its centreline a radius above it): its weight reaches the
+// table through the contact in the implicit solve, and it stays where it lies.
 TEST(HairWorld, StrandOnTableReportsWeight) {
   auto w = hairWorld(settings());
-  const int s = w->hair->addStrand(straightStrand(Vec3(0.0, 0.0, 0.0), Vec3::UnitX(), 0.05, 20),
-                                   humanHair(), false);
+  const int s = w->hair->addStrand(
+      straightStrand(Vec3(0.0, 0.0, humanHair().radius_1), Vec3::UnitX(), 0.05, 20), humanHair(),
+      false);
   w->world.setColliders({std::make_shared<PlaneSurface>(Vec3::Zero(), Vec3::UnitZ())}, {}, {0.5});
   const std::vector<Vec3> x0 = w->hair->strand(s).positions();
   for (int step = 0; step < 60; ++step) w->world.step(1.0 / 240.0);
@@ -110,12 +111,15 @@ TEST(HairWorld, StrandOnTableReportsWeight) {
 
 // PyElastica's axial friction case: a strand on a plane with mu = 0.4 pulled along its axis at
 // one end by F. Below mu m g it stays put; above, its centre accelerates at (F - mu m g) / m.
+// The friction acts in the implicit solve (obstacle_contact.h); a stuck strand creeps at a
+// fraction of its eps_v, 1e-7 m/s.
 TEST(HairWorld, AxialStickSlip) {
   const double mu = 0.4, dt = 1.0 / 240.0;
   for (double ratio : {0.5, 0.9, 1.5, 3.0}) {
     auto w = hairWorld(settings());
-    const int s = w->hair->addStrand(straightStrand(Vec3(0.0, 0.0, 0.0), Vec3::UnitX(), 0.05, 20),
-                                     humanHair(), false);
+    const int s = w->hair->addStrand(
+        straightStrand(Vec3(0.0, 0.0, humanHair().radius_1), Vec3::UnitX(), 0.05, 20), humanHair(),
+        false);
     w->world.setColliders({std::make_shared<PlaneSurface>(Vec3::Zero(), Vec3::UnitZ())}, {}, {mu});
     const double m = w->hair->totalMass(), F = ratio * mu * m * kG;
     w->hair->setVertexForce(s, w->hair->strand(s).numVertices() - 1, Vec3(F, 0, 0));
@@ -374,6 +378,15 @@ TEST(HairWorld, BadInputIsRefused) {
   bad = settings();
   bad.gravity.x() = std::nan("");
   refused([&] { HairDynamics h(bad); }, "NaN gravity");
+  bad = settings();
+  bad.obstacle_contact.stiffness = std::nan("");
+  refused([&] { HairDynamics h(bad); }, "NaN contact stiffness");
+  bad = settings();
+  bad.obstacle_contact.slip_velocity = 0.0;
+  refused([&] { HairDynamics h(bad); }, "zero friction eps_v");
+  bad = settings();
+  bad.obstacle_contact.lag_passes = 0;
+  refused([&] { HairDynamics h(bad); }, "no lag pass");
   auto w = hairWorld(settings());
   std::vector<Vec3> dup = straightStrand(Vec3::Zero(), Vec3::UnitX(), 0.05, 5);
   dup[3] = dup[2];

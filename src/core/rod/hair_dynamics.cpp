@@ -44,6 +44,12 @@ HairDynamics::HairDynamics(const HairSettings& settings)
     throw InputError("hair: max_time_step must be positive and finite");
   if (!(settings.newton.tolerance > 0.0) || settings.newton.max_iterations < 1)
     throw InputError("hair: Newton tolerance must be positive, iterations at least 1");
+  const ObstacleContactSettings& oc = settings.obstacle_contact;
+  if (!(oc.stiffness > 0.0 && std::isfinite(oc.stiffness)))
+    throw InputError("hair: obstacle contact stiffness must be positive and finite");
+  if (!(oc.slip_velocity > 0.0 && std::isfinite(oc.slip_velocity)))
+    throw InputError("hair: obstacle slip_velocity (eps_v) must be positive and finite");
+  if (oc.lag_passes < 1) throw InputError("hair: obstacle lag_passes must be at least 1");
 }
 
 int HairDynamics::addStrand(const std::vector<Vec3>& rest, const RodMaterial& material,
@@ -93,6 +99,12 @@ void HairDynamics::setVelocities(int s, const std::vector<Vec3>& v) {
   for (const Vec3& u : v)
     if (!u.allFinite()) throw InputError("hair: velocities must be finite");
   strands_[s].v = v;
+}
+
+void HairDynamics::setNaturalShape(int s, const std::vector<Eigen::Vector2d>& curvature,
+                                   const std::vector<double>& twist) {
+  checkStrand(s);
+  strands_[s].rod.setNaturalShape(curvature, twist);
 }
 
 void HairDynamics::setRootFrame(int s, const Eigen::Isometry3d& pose) {
@@ -169,9 +181,44 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
     rod.setConfiguration(q);
   }
   loads.inertial_target = target;
+  // The obstacles' contact, its normal forces lagged from the step's start and then from each
+  // pass's solution (IPC's lagged friction iterations).
+  const RodMaterial& material = rod.material();
+  std::vector<Vec3> x_start(rod.numVertices());
+  std::vector<char> skip(rod.numVertices(), 0);
+  // Candidates: within a segment and the step's largest move of the contact distance.
+  double reach = rod.length() / rod.numEdges();
+  for (int i = 0; i < rod.numVertices(); ++i) {
+    x_start[i] = s.q_start.segment<3>(DiscreteElasticRod::vertexDof(i));
+    reach = std::max(reach, dt * s.v[i].norm() + rod.length() / rod.numEdges());
+    skip[i] = s.clamped && i < 2;
+  }
+  ObstacleContactSettings contact_settings = settings_.obstacle_contact;
+  contact_settings.stiffness *= material.stretchingStiffness() * rod.numEdges() / rod.length();
+  ObstacleContact contact(obstacles_, contact_settings,
+                          std::sqrt(material.radius_1 * material.semiAxis2()), dt, x_start);
+  contact.updateLag(s.q_start, reach, skip);
+  if (!contact.empty()) loads.obstacles = &contact;
   result = solveStrand(rod, loads, settings_.newton);
+  for (int pass = 1; pass < settings_.obstacle_contact.lag_passes && loads.obstacles; ++pass) {
+    contact.updateLag(rod.configuration(), reach, skip);
+    const int before = result.iterations;
+    result = solveStrand(rod, loads, settings_.newton);
+    result.iterations += before;
+  }
   const Eigen::VectorXd q_new = rod.configuration();
-  if (s.clamped) {
+  s.obstacle_impulse.assign(obstacles_.size(), mpm::ColliderImpulse());
+  if (loads.obstacles) {
+    const std::vector<Vec3> f = contact.forces(q_new);
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const LaggedContact& c = contact.contacts()[k];
+      s.obstacle_impulse[c.obstacle].add(q_new.segment<3>(DiscreteElasticRod::vertexDof(c.vertex)),
+                                         dt * f[k]);
+    }
+  }
+  s.clamp = HoldingWrench();
+  // (None when the solve could not start: a configuration where the energy is not defined.)
+  if (s.clamped && result.held_reaction.size() == rod.numDofs()) {
     // The reactions on the held unknowns: forces on x_0 and x_1, the moment about the first
     // edge on its angle.
     const Eigen::VectorXd& r = result.held_reaction;
@@ -194,6 +241,11 @@ void HairDynamics::beginStep(double dt) {
   collider_impulse_.assign(colliders_.size(), mpm::ColliderImpulse());
   std::vector<StrandNewtonResult> results(strands_.size());
   tbb::parallel_for(0, numStrands(), [&](int s) { solveStrandStep(strands_[s], dt, results[s]); });
+  for (const Strand& strand : strands_)
+    for (std::size_t c = 0; c < collider_impulse_.size(); ++c) {
+      collider_impulse_[c].linear += strand.obstacle_impulse[c].linear;
+      collider_impulse_[c].angular += strand.obstacle_impulse[c].angular;
+    }
   converged_ = true;
   last_iterations_ = 0;
   for (const StrandNewtonResult& r : results) {
@@ -339,6 +391,7 @@ void HairDynamics::setColliders(const RigidSurfaces& colliders,
     throw InputError("hair: " + std::to_string(frictions.size()) + " frictions for " +
                      std::to_string(colliders.size()) + " colliders");
   std::vector<mpm::GridCollider> grid_colliders;
+  std::vector<StrandObstacle> obstacles;
   for (std::size_t c = 0; c < colliders.size(); ++c) {
     if (!colliders[c]) throw InputError("hair: collider " + std::to_string(c) + " is null");
     mpm::GridCollider g;
@@ -350,9 +403,11 @@ void HairDynamics::setColliders(const RigidSurfaces& colliders,
       throw InputError("hair: collider " + std::to_string(c) + " has friction " +
                        std::to_string(g.friction));
     grid_colliders.push_back(g);
+    obstacles.push_back(StrandObstacle{g.surface, g.velocity, g.friction});
   }
   surfaces_ = colliders;
   colliders_ = std::move(grid_colliders);
+  obstacles_ = std::move(obstacles);
   collider_impulse_.assign(colliders_.size(), mpm::ColliderImpulse());
 }
 

@@ -80,6 +80,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       if (!loads.vertex_forces.empty()) f += loads.vertex_forces[i];
       phi -= f.dot(x.segment<3>(DiscreteElasticRod::vertexDof(i)));
     }
+    if (loads.obstacles) phi += loads.obstacles->energy(x);
     if (loads.tip_moment != 0.0) {
       const double turn = tipAngle(x) - phi_now;
       if (std::abs(turn) > 0.5 * M_PI) return kInf;
@@ -99,8 +100,9 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       ldlt;
   // The Newton matrix: the true Hessian where it is positive definite (quadratic convergence
   // near a stable equilibrium), else the element-wise projected one (a descent direction).
-  // The gradient of Phi's terms besides the elasticity, at q.
-  const auto addLoadGradient = [&](Eigen::VectorXd& grad) {
+  // The gradient of Phi's terms besides the elasticity, at q, and the obstacles' Hessian.
+  const auto addLoadGradient = [&](Eigen::VectorXd& grad, Triplets* hessian) {
+    if (loads.obstacles) loads.obstacles->addDerivatives(q, grad, hessian);
     for (int k = 0; k < n && dynamic; ++k)
       grad[k] += inv_dt2 * mass[k] * (q[k] - loads.inertial_target[k]);
     for (int i = 0; i < nv; ++i) {
@@ -119,7 +121,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
     g.setZero();
     triplets.clear();
     rod.addElasticDerivatives(&g, &triplets, project);
-    addLoadGradient(g);
+    addLoadGradient(g, &triplets);
     for (int k = 0; k < n && dynamic; ++k) triplets.emplace_back(k, k, inv_dt2 * mass[k]);
     if (loads.tip_moment != 0.0) {
       // phi = atan2 in the plane normal to the axis: d phi / de = a x e / |e_p|^2, and its
@@ -247,7 +249,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   if (!loads.held.empty()) {
     Eigen::VectorXd full = Eigen::VectorXd::Zero(n);
     rod.addElasticDerivatives(&full, nullptr, false);
-    addLoadGradient(full);
+    addLoadGradient(full, nullptr);
     result.held_reaction = Eigen::VectorXd::Zero(n);
     for (int k = 0; k < n; ++k)
       if (held(k)) result.held_reaction[k] = full[k];

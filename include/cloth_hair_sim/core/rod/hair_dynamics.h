@@ -12,6 +12,7 @@
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
 #include "cloth_hair_sim/core/mpm/support_nodes.h"
 #include "cloth_hair_sim/core/rod/discrete_elastic_rod.h"
+#include "cloth_hair_sim/core/rod/obstacle_contact.h"
 #include "cloth_hair_sim/core/rod/rod_material.h"
 #include "cloth_hair_sim/core/rod/strand_newton_solver.h"
 #include "cloth_hair_sim/core/world/body.h"
@@ -28,9 +29,11 @@ struct HairSettings {
   // 1/240 s stretched by 1.8 % with xi = 0.95 (test_rod_world). 0: the grid only adds its change.
   double pic_blend = 0.0;
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
-  // Obstacles: boundary condition (grid_collider.h) and default Coulomb mu.
+  // Obstacles: boundary condition on the grid (grid_collider.h), default Coulomb mu, and their
+  // contact inside each strand's implicit solve (obstacle_contact.h).
   mpm::ColliderBoundary boundary = mpm::ColliderBoundary::kSeparating;
   double friction = 0.3;
+  ObstacleContactSettings obstacle_contact;
   // stableTimeStep(): min(max_time_step, cfl dx / fastest vertex). The implicit elasticity sets
   // no bound of its own.
   double cfl = 0.5;
@@ -43,18 +46,20 @@ struct HairSettings {
 // elastic rods (discrete_elastic_rod.h). A step's stages:
 //   beginStep        the Lagrangian update (4.7), done implicitly: per strand, backward Euler on
 //                    the incremental potential (strand_newton_solver.h) with the rod's
-//                    elasticity, gravity and the applied vertex forces, roots clamped; gives the
-//                    vertices' velocities v* = (x - x^n) / dt.
+//                    elasticity, gravity, the applied vertex forces and the obstacles' normal
+//                    penalty and lagged Coulomb friction potential (obstacle_contact.h: the
+//                    capstan needs friction where the tension is solved), roots clamped; gives
+//                    the vertices' velocities v* = (x - x^n) / dt.
 //   transferToGrid   APIC transfer of the vertices' mass and momentum m v* to the field (4.8-4.9)
 //                    from their step-start positions; clamped vertices carry no mass there (the
 //                    scalp's motion is a boundary condition, not momentum).
 //   updateGrid       the obstacles' Coulomb conditions on the nodes inside them (grid_collider.h).
 //   [world]          contact with other bodies' fields (world/field_contact.h).
 //   transferFromGrid the change of grid velocity back to the vertices, blended with xi (4.12);
-//                    then each vertex that ends inside an obstacle gets the same Coulomb
-//                    projection as an impulse (as the shell's control points do), and positions
-//                    move, x^{n+1} = x^n + dt v^{n+1} (4.13); the rod's frames are transported
-//                    there.
+//                    then each vertex that still ends inside an obstacle
+//                    (the solve keeps them a radius off it) gets the grid's Coulomb projection as
+//                    an impulse, and positions move, x^{n+1} = x^n + dt v^{n+1} (4.13); the rod's
+//                    frames are transported there.
 // Gravity acts in the Lagrangian update rather than on the grid as in Han (4.10): a stiff strand
 // solved implicitly without it would spring back each step from the sag the grid's gravity gave
 // it, and the hanging shape would lag by dt^2 g.
@@ -77,6 +82,10 @@ class HairDynamics : public Body {
   const DiscreteElasticRod& strand(int s) const { return strands_[s].rod; }
   const std::vector<Eigen::Vector3d>& velocities(int s) const { return strands_[s].v; }
   void setVelocities(int s, const std::vector<Eigen::Vector3d>& v);
+  // Replaces strand s's natural curvature and twist (DiscreteElasticRod::setNaturalShape): a
+  // strand added in a wrapped shape made naturally straight. Throws InputError as that does.
+  void setNaturalShape(int s, const std::vector<Eigen::Vector2d>& curvature,
+                       const std::vector<double>& twist);
   // The rigid motion from the strand's root as added to where its clamp should be: the clamp
   // moves there at constant velocity over the next step (a scalp on a moving head link).
   void setRootFrame(int s, const Eigen::Isometry3d& pose);
@@ -90,7 +99,7 @@ class HairDynamics : public Body {
   const HairSettings& settings() const { return settings_; }
   double totalMass() const;
   double time() const { return time_; }
-  // Newton iterations of the slowest strand in the last step.
+  // Newton iterations of the slowest strand in the last step (over its lag passes).
   int lastNewtonIterations() const { return last_iterations_; }
 
   // Body stages.
@@ -128,8 +137,9 @@ class HairDynamics : public Body {
     // The clamp in the frame it was added in: x_0, x_1 and the first material director.
     Eigen::Vector3d root_x0, root_x1, root_m1;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    HoldingWrench clamp;  // last step's, about the root vertex
-    int offset = 0;       // first vertex among the particles
+    HoldingWrench clamp;                                 // last step's, about the root vertex
+    std::vector<mpm::ColliderImpulse> obstacle_impulse;  // this step's, from the implicit solve
+    int offset = 0;                                      // first vertex among the particles
     // This step: step-start configuration and the clamp's targets.
     Eigen::VectorXd q_start;
   };
@@ -145,6 +155,7 @@ class HairDynamics : public Body {
   mpm::Particles scratch_;
   RigidSurfaces surfaces_;
   std::vector<mpm::GridCollider> colliders_;
+  std::vector<StrandObstacle> obstacles_;  // the same, for the strands' implicit solves
   std::vector<mpm::ColliderImpulse> collider_impulse_;
   bool converged_ = true;
   int last_iterations_ = 0;

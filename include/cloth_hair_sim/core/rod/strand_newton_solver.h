@@ -4,18 +4,21 @@
 #include <Eigen/Core>
 
 #include "cloth_hair_sim/core/rod/discrete_elastic_rod.h"
+#include "cloth_hair_sim/core/rod/obstacle_contact.h"
 
 namespace chs::rod {
 
 // What acts on a strand besides its elasticity, as terms of one potential in its generalised
 // coordinates q (discrete_elastic_rod.h):
 //   Phi(q) = E(q) + 1 / (2 dt^2) (q - q~)^T M (q - q~) - sum_i m_i g . x_i - sum_i F_i . x_i
-//            - M_tip phi_tip(q),
+//            - M_tip phi_tip(q) + C(q),
 // the incremental potential of backward Euler (Gast et al., IEEE TVCG 2015; its minimiser is the
 // implicit step x^{n+1} with q~ = q^n + dt qdot^n) when dt > 0, the total potential energy of a
 // static equilibrium when dt <= 0. phi_tip is the angle of the last edge about
 // tip_moment_axis, so that M_tip is a dead end moment (a rod closed into a circle by
-// M = 2 pi EI / L). Held unknowns (a clamped root) keep the values they have in the rod.
+// M = 2 pi EI / L), and C the obstacles' normal penalty and lagged friction potential
+// (obstacle_contact.h), if any. Held unknowns (a clamped root) keep the values they have in the
+// rod.
 struct StrandLoads {
   double dt = 0.0;                  // [s]; <= 0: static
   Eigen::VectorXd inertial_target;  // q~ (numDofs()), dynamic only
@@ -24,6 +27,7 @@ struct StrandLoads {
   double tip_moment = 0.0;                     // M_tip [N m]
   Eigen::Vector3d tip_moment_axis = Eigen::Vector3d::UnitZ();
   std::vector<char> held;  // per unknown: 1 = held where the rod has it; empty: none held
+  const ObstacleContact* obstacles = nullptr;  // C, or none
 };
 
 struct StrandNewtonSettings {

@@ -1,0 +1,92 @@
+#pragma once
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
+
+namespace chs::rod {
+
+struct ObstacleContactSettings {
+  // Normal penalty per vertex, relative to the stretching stiffness EA / l of the strand's mean
+  // segment: a vertex pressed with force N sinks N l / EA into the contact distance (hair at
+  // 1 mm segments: 6e-8 m per mN), and the Newton matrix stays as well conditioned as the
+  // strand's own. ObstacleContact takes it in N/m.
+  double stiffness = 1.0;
+  // eps_v of the smoothed friction [m/s]: below it friction acts as a stiff spring (a stuck
+  // vertex creeps at a fraction of eps_v), above it as Coulomb's mu lambda.
+  double slip_velocity = 1e-7;
+  // Passes of the lagged normal forces per step: each re-solves the strand with the normal
+  // forces and normals of the previous pass (the first: of the step's start).
+  int lag_passes = 3;
+};
+
+// An obstacle as a strand's implicit solve sees it: its signed distance, its motion over the
+// step and its Coulomb mu.
+struct StrandObstacle {
+  std::shared_ptr<const RigidSurface> surface;
+  SurfaceVelocity velocity;
+  double friction = 0.0;
+};
+
+// One vertex against one obstacle, with the lagged quantities of IPC's friction (Li et al.,
+// "Incremental Potential Contact", SIGGRAPH 2020, section 5): normal force lambda and normal n.
+struct LaggedContact {
+  int vertex = 0;
+  int obstacle = 0;
+  double normal_force = 0.0;  // lambda [N]
+  double gap = 0.0;           // the vertex's signed distance from the obstacle at the lag
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();          // n, outward
+  Eigen::Vector3d obstacle_motion = Eigen::Vector3d::Zero();  // dt v_obstacle at the vertex
+};
+
+// The obstacles' contact with a strand's vertices as terms of its incremental potential
+// (strand_newton_solver.h), so that friction acts inside the implicit solve and tension can
+// build along a strand held by it (the capstan). Per contact, with d the contact distance (the
+// strand's radius: the centreline rests a radius off the surface) and g the signed distance of
+// the vertex from the obstacle moved by its step's motion:
+//   normal    k / 2 (d - g)^2 for g < d (lambda = k (d - g) is the normal force),
+//   friction  mu lambda f0(|P (x - x^n - dt v_obstacle)|), P = I - n n^T,
+// IPC's smoothed friction dissipation potential (Li et al. 2020, (14)-(17)) with
+// f0(y) = -y^3 / (3 e^2) + y^2 / e + e / 3 for y < e = eps_v dt, y beyond: its gradient is
+// Coulomb's mu lambda against the slip beyond e and a spring of stiffness 2 mu lambda / e
+// below. lambda and n are lagged (fixed while Newton solves, updated between passes).
+class ObstacleContact {
+ public:
+  ObstacleContact(const std::vector<StrandObstacle>& obstacles,
+                  const ObstacleContactSettings& settings, double contact_distance, double dt,
+                  const std::vector<Eigen::Vector3d>& x_start);
+
+  // The lag of the next pass from the configuration q (the first pass: the step's start): every
+  // vertex within `reach` of the contact distance is a candidate (its penalty acts once it
+  // comes within d; its friction from the next pass on, when its lambda is known). Vertices
+  // flagged in `skip` (held ones) get none.
+  void updateLag(const Eigen::VectorXd& q, double reach, const std::vector<char>& skip);
+  const std::vector<LaggedContact>& contacts() const { return contacts_; }
+  bool empty() const { return contacts_.empty(); }
+
+  double energy(const Eigen::VectorXd& q) const;
+  // Adds the gradient (vertex i's at 4 i) and the Hessian (positive semi-definite, the normal's
+  // curvature dropped) as triplets; hessian may be null.
+  void addDerivatives(const Eigen::VectorXd& q, Eigen::VectorXd& gradient,
+                      std::vector<Eigen::Triplet<double>>* hessian) const;
+  // The force each contact applies to its vertex at q (minus its gradient).
+  std::vector<Eigen::Vector3d> forces(const Eigen::VectorXd& q) const;
+
+ private:
+  double normalGap(const LaggedContact& c, const Eigen::Vector3d& x, Eigen::Vector3d* normal) const;
+  double contactEnergy(const LaggedContact& c, const Eigen::Vector3d& x) const;
+  void contactDerivatives(const LaggedContact& c, const Eigen::Vector3d& x, Eigen::Vector3d& g,
+                          Eigen::Matrix3d* h) const;
+
+  const std::vector<StrandObstacle>& obstacles_;
+  ObstacleContactSettings settings_;
+  double distance_, dt_;
+  std::vector<Eigen::Vector3d> x_start_;
+  std::vector<LaggedContact> contacts_;
+};
+
+}  // namespace chs::rod
