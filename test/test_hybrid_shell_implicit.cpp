@@ -11,6 +11,7 @@
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
 #include "cloth_test_material.h"
+#include "held_sheet.h"
 
 namespace chs {
 namespace {
@@ -24,29 +25,8 @@ HybridShellSettings backwardEuler(double dt) {
   return s;
 }
 
-// A 10 x 10 cm sheet of 8 x 8 quads held along its top edge, hanging in the xz plane
-// (vertical) or lying in the xy plane (horizontal, it swings down).
-struct HeldSheet {
-  DrapeProblem problem;
-  std::vector<int> top;
-  explicit HeldSheet(bool vertical) {
-    const int n = 8;
-    problem.mesh = makeRectangleMesh(0.1, 0.1, n, n);
-    if (vertical)
-      for (auto& x : problem.mesh.vertices) x = Vec3(x.x(), 0.0, x.y());
-    problem.material = testCloth();
-    for (int i = 0; i <= n; ++i) top.push_back(n * (n + 1) + i);
-    problem.bc.pinned = top;
-  }
-};
-
-// Kinetic, Kirchhoff-Love and gravitational energy (the fibres of a sheet that never touches
-// itself store none).
-double totalEnergy(const HybridShellDynamics& d, const Vec3& g) {
-  double e = d.kineticEnergy() + d.elasticEnergy();
-  for (int p = 0; p < d.numVertices(); ++p) e -= d.masses()[p] * g.dot(d.positions()[p]);
-  return e;
-}
+using test::HeldSheet;
+using test::totalEnergy;
 
 // The hanging sheet's equilibrium does not depend on the integrator: backward Euler at a step
 // 16 times the explicit bound settles where the damped explicit run settles, and its pins

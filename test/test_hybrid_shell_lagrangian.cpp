@@ -19,6 +19,7 @@
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
 #include "cloth_test_material.h"
+#include "held_sheet.h"
 
 namespace chs {
 namespace {
@@ -32,31 +33,12 @@ HybridShellSettings lagrangian(double dt) {
   return s;
 }
 
-// A 10 x 10 cm sheet of 8 x 8 quads held along its top edge, hanging in the xz plane
-// (vertical) or lying in the xy plane (horizontal, it swings down).
-struct HeldSheet {
-  DrapeProblem problem;
-  std::vector<int> top;
-  explicit HeldSheet(bool vertical) {
-    const int n = 8;
-    problem.mesh = makeRectangleMesh(0.1, 0.1, n, n);
-    if (vertical)
-      for (auto& x : problem.mesh.vertices) x = Vec3(x.x(), 0.0, x.y());
-    problem.material = testCloth();
-    for (int i = 0; i <= n; ++i) top.push_back(n * (n + 1) + i);
-    problem.bc.pinned = top;
-  }
-};
+using test::HeldSheet;
+using test::totalEnergy;
 
-double totalEnergy(const HybridShellDynamics& d, const Vec3& g) {
-  double e = d.kineticEnergy() + d.elasticEnergy();
-  for (int p = 0; p < d.numVertices(); ++p) e -= d.masses()[p] * g.dot(d.positions()[p]);
-  return e;
-}
-
-// Where a fibre's Hessian in its stencil sums is positive definite (a stretched, bent patch) the
-// projection leaves it alone, and it is the second derivative of the energy: central differences
-// of the energy along random directions agree to 1e-5.
+// On a stretched, bent patch no fibre needs the projection, so each fibre's Hessian in its
+// stencil sums is the energy's second derivative: central differences of the energy along random
+// directions agree to 1e-5.
 TEST(HybridShellLagrangian, FibreHessianIsTheEnergysSecondDerivative) {
   QuadMesh mesh = makeRectangleMesh(0.1, 0.1, 4, 4);
   const LimitSurface surface(mesh);

@@ -94,7 +94,11 @@ class DrapeActionTest(unittest.TestCase):
         totals = [m.total_iterations for m in messages]
         self.assertEqual(totals, sorted(totals), 'total_iterations went back')
         self.assertGreater(totals[-1], totals[0])
-        self.assertGreater(messages[-1].load_factor, messages[0].load_factor)
+        # The FEM drape minimises the energy at the full load (load factor 1 throughout); a load
+        # path (arc length) would raise it step by step. Either way it never goes back.
+        factors = [m.load_factor for m in messages]
+        self.assertEqual(factors, sorted(factors), 'load_factor went back')
+        self.assertTrue(all(0.0 < f <= 1.0 for f in factors), factors)
         elapsed = [m.elapsed for m in messages]
         self.assertEqual(elapsed, sorted(elapsed))
         self.assertGreaterEqual(result.iterations, totals[-1])
