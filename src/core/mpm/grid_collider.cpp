@@ -1,6 +1,10 @@
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "cloth_hair_sim/core/common/input_error.h"
 
 namespace chs::mpm {
 
@@ -15,6 +19,33 @@ Eigen::Vector3d collideRelativeVelocity(const Eigen::Vector3d& v_rel, const Eige
   const double reduced = vt_norm + friction * std::min(vn, 0.0);
   if (reduced <= 0.0 || vt_norm == 0.0) return Eigen::Vector3d::Zero();
   return vt * (reduced / vt_norm);
+}
+
+std::vector<GridCollider> makeGridColliders(const RigidSurfaces& colliders,
+                                            const std::vector<SurfaceVelocity>& velocities,
+                                            const std::vector<double>& frictions,
+                                            ColliderBoundary boundary, double default_friction,
+                                            const std::string& who) {
+  if (!velocities.empty() && velocities.size() != colliders.size())
+    throw InputError(who + ": " + std::to_string(velocities.size()) + " velocities for " +
+                     std::to_string(colliders.size()) + " colliders");
+  if (!frictions.empty() && frictions.size() != colliders.size())
+    throw InputError(who + ": " + std::to_string(frictions.size()) + " frictions for " +
+                     std::to_string(colliders.size()) + " colliders");
+  std::vector<GridCollider> out;
+  for (std::size_t c = 0; c < colliders.size(); ++c) {
+    if (!colliders[c]) throw InputError(who + ": collider " + std::to_string(c) + " is null");
+    GridCollider g;
+    g.surface = colliders[c];
+    if (!velocities.empty()) g.velocity = velocities[c];
+    g.boundary = boundary;
+    g.friction = frictions.empty() ? default_friction : frictions[c];
+    if (!(g.friction >= 0.0 && std::isfinite(g.friction)))
+      throw InputError(who + ": collider " + std::to_string(c) + " has friction " +
+                       std::to_string(g.friction));
+    out.push_back(g);
+  }
+  return out;
 }
 
 void applyGridColliders(SparseGrid& grid, const std::vector<GridCollider>& colliders,

@@ -839,25 +839,8 @@ void HybridShellDynamics::setDamping(double damping) {
 void HybridShellDynamics::setColliders(const RigidSurfaces& colliders,
                                        const std::vector<SurfaceVelocity>& velocities,
                                        const std::vector<double>& frictions) {
-  if (!velocities.empty() && velocities.size() != colliders.size())
-    throw InputError("hybrid shell: " + std::to_string(velocities.size()) + " velocities for " +
-                     std::to_string(colliders.size()) + " colliders");
-  if (!frictions.empty() && frictions.size() != colliders.size())
-    throw InputError("hybrid shell: " + std::to_string(frictions.size()) + " frictions for " +
-                     std::to_string(colliders.size()) + " colliders");
-  std::vector<mpm::GridCollider> grid_colliders;
-  for (std::size_t c = 0; c < colliders.size(); ++c) {
-    if (!colliders[c]) throw InputError("hybrid shell: collider " + std::to_string(c) + " is null");
-    mpm::GridCollider g;
-    g.surface = colliders[c];
-    if (!velocities.empty()) g.velocity = velocities[c];
-    g.boundary = settings_.boundary;
-    g.friction = frictions.empty() ? settings_.friction : frictions[c];
-    if (!(g.friction >= 0.0 && std::isfinite(g.friction)))
-      throw InputError("hybrid shell: collider " + std::to_string(c) + " has friction " +
-                       std::to_string(g.friction));
-    grid_colliders.push_back(g);
-  }
+  std::vector<mpm::GridCollider> grid_colliders = mpm::makeGridColliders(
+      colliders, velocities, frictions, settings_.boundary, settings_.friction, "hybrid shell");
   surfaces_ = colliders;
   grid_colliders_ = std::move(grid_colliders);
 }

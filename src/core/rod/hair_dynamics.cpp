@@ -384,27 +384,11 @@ bool HairDynamics::finite() const {
 void HairDynamics::setColliders(const RigidSurfaces& colliders,
                                 const std::vector<SurfaceVelocity>& velocities,
                                 const std::vector<double>& frictions) {
-  if (!velocities.empty() && velocities.size() != colliders.size())
-    throw InputError("hair: " + std::to_string(velocities.size()) + " velocities for " +
-                     std::to_string(colliders.size()) + " colliders");
-  if (!frictions.empty() && frictions.size() != colliders.size())
-    throw InputError("hair: " + std::to_string(frictions.size()) + " frictions for " +
-                     std::to_string(colliders.size()) + " colliders");
-  std::vector<mpm::GridCollider> grid_colliders;
+  std::vector<mpm::GridCollider> grid_colliders = mpm::makeGridColliders(
+      colliders, velocities, frictions, settings_.boundary, settings_.friction, "hair");
   std::vector<StrandObstacle> obstacles;
-  for (std::size_t c = 0; c < colliders.size(); ++c) {
-    if (!colliders[c]) throw InputError("hair: collider " + std::to_string(c) + " is null");
-    mpm::GridCollider g;
-    g.surface = colliders[c];
-    if (!velocities.empty()) g.velocity = velocities[c];
-    g.boundary = settings_.boundary;
-    g.friction = frictions.empty() ? settings_.friction : frictions[c];
-    if (!(g.friction >= 0.0 && std::isfinite(g.friction)))
-      throw InputError("hair: collider " + std::to_string(c) + " has friction " +
-                       std::to_string(g.friction));
-    grid_colliders.push_back(g);
+  for (const mpm::GridCollider& g : grid_colliders)
     obstacles.push_back(StrandObstacle{g.surface, g.velocity, g.friction});
-  }
   surfaces_ = colliders;
   colliders_ = std::move(grid_colliders);
   obstacles_ = std::move(obstacles);

@@ -1,5 +1,6 @@
 #pragma once
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,6 +23,16 @@ struct GridCollider {
   ColliderBoundary boundary = ColliderBoundary::kSeparating;
   double friction = 0.0;  // mu
 };
+
+// A body's grid colliders from the lists ClothDynamics::setColliders / Body::setColliders take:
+// velocities and frictions empty (at rest; default_friction) or one per collider. Throws
+// InputError, its message starting with `who`, for lists of other lengths, a null collider or a
+// friction that is negative or not finite.
+std::vector<GridCollider> makeGridColliders(const RigidSurfaces& colliders,
+                                            const std::vector<SurfaceVelocity>& velocities,
+                                            const std::vector<double>& frictions,
+                                            ColliderBoundary boundary, double default_friction,
+                                            const std::string& who);
 
 // The velocity of a node at relative velocity v_rel = v - v_collider against outward normal n,
 // in the collider's frame: the projection and Coulomb return mapping (|v_t| reduced by
