@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/solver/storage_slot.h"
 
 namespace chs {
 
@@ -125,13 +126,7 @@ void ShellModel::buildPattern() {
   pattern_.resize(num_free_, num_free_);
   pattern_.setFromTriplets(trip.begin(), trip.end());
   pattern_.makeCompressed();
-  // Position of (r, c) in the compressed column-major storage.
-  auto slot = [&](int r, int c) -> int {
-    if (r < 0 || c < 0) return -1;
-    const int* rows = pattern_.innerIndexPtr();
-    const int begin = pattern_.outerIndexPtr()[c], end = pattern_.outerIndexPtr()[c + 1];
-    return static_cast<int>(std::lower_bound(rows + begin, rows + end, r) - rows);
-  };
+  auto slot = [&](int r, int c) { return storageSlot(pattern_, r, c); };
   element_slots_.resize(elements_.size());
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const auto& q = elements_[e].nodes();
