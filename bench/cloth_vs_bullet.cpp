@@ -255,7 +255,8 @@ Run runHybrid(const DropScene& scene, chs::TimeIntegration integration, int thre
       ++r.steps;
       newton += d.lastElasticSolve().iterations;
       factorizations += d.lastElasticSolve().factorizations;
-      unconverged += integration == chs::TimeIntegration::kLagrangianImplicit &&
+      unconverged += (integration == chs::TimeIntegration::kLagrangianImplicit ||
+                      integration == chs::TimeIntegration::kLagrangianBdf2) &&
                      !d.lastElasticSolve().converged;
       evaluations += d.lastImplicitSolve().residual_evaluations;
     }

@@ -14,10 +14,13 @@
 // stage of step() (stageTimes()).
 //
 // --integration both runs each scene with symplectic Euler and then backward Euler (steps of at
-// most 1/240 s, CFL-limited; Newton-GMRES totals printed) in the same process, for the ratio.
+// most 1/240 s, CFL-limited; Newton-GMRES totals printed) in the same process, for the ratio;
+// lagrangian the Lagrangian implicit step (steps of at most 1/60 s, CFL-limited; its elastic
+// Newton totals printed), all three.
 //
 //   curtain_benchmark [--scene curtain|walker|both] [--curtain-frames 2] [--walker-frames 12]
-//                     [--integration symplectic|backward|both] [--threads N] [--kl-order 2]
+//                     [--integration symplectic|backward|lagrangian|both|all] [--threads N]
+//                     [--kl-order 2]
 // --kl-order sets the Kirchhoff-Love quadrature's in-plane Gauss order (default: the core's).
 #include <algorithm>
 #include <cmath>
@@ -76,6 +79,7 @@ struct Timing {
   long steps = 0;
   double wall = 0.0, cpu = 0.0, simulated = 0.0;
   long newton = 0, krylov = 0, unconverged = 0;  // backward Euler solves
+  long elastic_newton = 0, factorizations = 0;   // the Lagrangian step's elastic solves
   chs::HybridStageTimes stages;
 };
 
@@ -104,6 +108,14 @@ Timing run(const char* name, chs::HybridShellDynamics& d, const Choreography& ob
         t.newton += r.newton_iterations;
         t.krylov += r.krylov_iterations;
         t.unconverged += r.converged() ? 0 : 1;
+      }
+      if (d.settings().integration == chs::TimeIntegration::kLagrangianImplicit) {
+        const chs::ImplicitElasticityResult& e = d.lastElasticSolve();
+        t.elastic_newton += e.iterations;
+        t.factorizations += e.factorizations;
+        t.newton += d.lastImplicitSolve().newton_iterations;
+        t.krylov += d.lastImplicitSolve().krylov_iterations;
+        t.unconverged += e.converged && d.lastImplicitSolve().converged() ? 0 : 1;
       }
     }
     const double wall = secondsSince(start), cpu = processCpuSeconds() - cpu0;
@@ -141,19 +153,26 @@ void printTiming(const char* name, const Timing& t, int threads) {
       static_cast<double>(t.steps) / t.frames, 1e3 * t.wall / t.steps, t.simulated / t.wall);
   if (t.newton > 0)
     std::printf(
-        "| backward Euler: Newton iterations per step | %.2f |\n"
-        "| backward Euler: GMRES iterations per step | %.1f |\n"
-        "| backward Euler: solves short of the tolerance | %ld of %ld |\n",
+        "| grid solve: Newton iterations per step | %.2f |\n"
+        "| grid solve: GMRES iterations per step | %.1f |\n"
+        "| solves short of the tolerance | %ld of %ld |\n",
         static_cast<double>(t.newton) / t.steps, static_cast<double>(t.krylov) / t.steps,
         t.unconverged, t.steps);
+  if (t.elastic_newton > 0)
+    std::printf(
+        "| elastic solve: Newton iterations per step | %.2f |\n"
+        "| elastic solve: factorisations per step | %.2f |\n",
+        static_cast<double>(t.elastic_newton) / t.steps,
+        static_cast<double>(t.factorizations) / t.steps);
   const chs::HybridStageTimes& s = t.stages;
-  const double staged =
-      s.transfer_to_grid + s.shell_forces + s.grid_update + s.transfer_to_particles + s.plasticity;
+  const double staged = s.elastic_solve + s.transfer_to_grid + s.shell_forces + s.grid_update +
+                        s.transfer_to_particles + s.plasticity;
   auto row = [&](const char* stage, double seconds) {
     std::printf("| %s | %.3f | %.1f %% |\n", stage, 1e3 * seconds / s.steps,
                 100.0 * seconds / t.wall);
   };
   std::printf("\n| stage of step() | wall ms per step | share of wall |\n|---|---|---|\n");
+  if (s.elastic_solve > 0.0) row("elastic solve (Lagrangian step)", s.elastic_solve);
   row("transfer to grid (5.37-5.38)", s.transfer_to_grid);
   row("shell and contact forces (5.46-5.49)", s.shell_forces);
   row("grid momentum and obstacles (5.40)", s.grid_update);
@@ -243,8 +262,9 @@ int main(int argc, char** argv) {
   app.add_option("--curtain-frames", curtain_frames, "frames of 1/24 s")
       ->check(CLI::PositiveNumber);
   app.add_option("--walker-frames", walker_frames, "frames of 1/24 s")->check(CLI::PositiveNumber);
-  app.add_option("--integration", integration, "symplectic, backward or both")
-      ->check(CLI::IsMember({"symplectic", "backward", "both"}));
+  app.add_option("--integration", integration,
+                 "symplectic, backward, lagrangian, both (symplectic and backward) or all")
+      ->check(CLI::IsMember({"symplectic", "backward", "lagrangian", "both", "all"}));
   app.add_option("--threads", threads, "TBB threads")->check(CLI::PositiveNumber);
   app.add_option("--kl-order", base.kirchhoff_love.in_plane_order,
                  "in-plane Gauss points per face edge of the Kirchhoff-Love quadrature")
@@ -254,15 +274,22 @@ int main(int argc, char** argv) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   chs::bench::printMachine(threads);
   std::vector<std::pair<chs::TimeIntegration, const char*>> integrators;
-  if (integration != "backward")
+  auto runs = [&](const char* name) {
+    return integration == name || integration == "all" ||
+           (integration == "both" && std::string(name) != "lagrangian");
+  };
+  if (runs("symplectic"))
     integrators.push_back({chs::TimeIntegration::kSymplecticEuler, "symplectic Euler"});
-  if (integration != "symplectic")
+  if (runs("backward"))
     integrators.push_back({chs::TimeIntegration::kBackwardEuler, "backward Euler"});
+  if (runs("lagrangian"))
+    integrators.push_back({chs::TimeIntegration::kLagrangianImplicit, "Lagrangian implicit"});
   for (const auto& [method, method_name] : integrators) {
     std::printf("\n=== %s, %d x %d Kirchhoff-Love points per face ===\n", method_name,
                 base.kirchhoff_love.in_plane_order, base.kirchhoff_love.in_plane_order);
     chs::HybridShellSettings settings = base;
     settings.integration = method;
+    if (method == chs::TimeIntegration::kLagrangianImplicit) settings.max_time_step = 1.0 / 60.0;
     if (scene != "walker") {
       const Timing t = curtain(curtain_frames, settings);
       printTiming("curtain", t, threads);

@@ -16,6 +16,7 @@
 #include <tbb/global_control.h>
 
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
@@ -147,6 +148,81 @@ void twoSheets(benchmark::State& state) {
 BENCHMARK(twoSheets)
     ->ArgsProduct({{32, 64}, {0, 1}})
     ->ArgNames({"quads", "in_world"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The Lagrangian implicit step (time_integration.h) on the scenes of the speed goals, each step
+// at the scene's own step (max 1/60 s, shortened by CFL): scene 0, the node's towel (50 x 50 cm
+// cotton, 2 cm cells, pinned at two adjacent corners, falling from flat); scene 1,
+// cloth_vs_bullet's 1 x 1 m cotton of 32 x 32 cells dropped 10 cm onto a 0.5 m sphere. Each
+// iteration is one step, from `warm_steps` steps into the run; counters are per step: stage and
+// solver times [ms], Newton iterations and factorisations of the elastic solve, force evaluations
+// of the grid's contact solve, and the real-time factor dt / wall. history: the elastic solve's
+// L-BFGS pairs (0: chord iterations on the kept factor).
+void lagrangianStep(benchmark::State& state) {
+  const bool towel = state.range(0) == 0;
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+  chs::DrapeProblem p;
+  p.material = *chs::materialPreset("cotton_eischen");
+  const int n = towel ? 25 : 32;
+  const double size = towel ? 0.5 : 1.0;
+  p.mesh = chs::makeRectangleMesh(size, size, n, n);
+  for (auto& x : p.mesh.vertices) x.z() = towel ? 1.0 : 0.6;
+  if (towel) {
+    p.bc.pinned = {n * (n + 1), (n + 1) * (n + 1) - 1};
+  } else {
+    p.colliders.push_back(std::make_shared<chs::SphereSurface>(Vec3::Zero(), 0.5));
+  }
+  chs::HybridShellSettings settings;
+  settings.integration = chs::TimeIntegration::kLagrangianImplicit;
+  settings.max_time_step = 1.0 / 60.0;
+  settings.friction = 0.3;
+  settings.elastic_history = static_cast<int>(state.range(2));
+  chs::HybridShellDynamics d(p, settings);
+  double t = 0.0;
+  for (int i = 0; i < state.range(1); ++i) {
+    const double dt = d.stableTimeStep();
+    d.step(dt);
+    t += dt;
+  }
+  const chs::HybridStageTimes t0 = d.stageTimes();
+  double sim = 0.0, assembly = 0.0, factor = 0.0;
+  int newton = 0, factorizations = 0, evaluations = 0, potentials = 0;
+  for (auto _ : state) {
+    const double dt = d.stableTimeStep();
+    d.step(dt);
+    sim += dt;
+    const chs::ImplicitElasticityResult& e = d.lastElasticSolve();
+    newton += e.iterations;
+    factorizations += e.factorizations;
+    potentials += e.potential_evaluations;
+    assembly += e.assembly_seconds;
+    factor += e.factorization_seconds;
+    evaluations += d.lastImplicitSolve().residual_evaluations;
+  }
+  const chs::HybridStageTimes t1 = d.stageTimes();
+  const int steps = t1.steps - t0.steps;
+  state.counters["elastic_ms"] = perStep(t0.elastic_solve, t1.elastic_solve, steps);
+  state.counters["assembly_ms"] = 1e3 * assembly / steps;
+  state.counters["factor_ms"] = 1e3 * factor / steps;
+  state.counters["grid_ms"] = perStep(t0.grid_update, t1.grid_update, steps);
+  state.counters["transfers_ms"] = perStep(t0.transfer_to_grid + t0.transfer_to_particles,
+                                           t1.transfer_to_grid + t1.transfer_to_particles, steps);
+  state.counters["newton"] = static_cast<double>(newton) / steps;
+  state.counters["factorizations"] = static_cast<double>(factorizations) / steps;
+  state.counters["potentials"] = static_cast<double>(potentials) / steps;
+  state.counters["grid_evaluations"] = static_cast<double>(evaluations) / steps;
+  state.counters["dt_ms"] = 1e3 * sim / steps;
+  const double wall = (t1.elastic_solve + t1.transfer_to_grid + t1.grid_update +
+                       t1.transfer_to_particles + t1.plasticity) -
+                      (t0.elastic_solve + t0.transfer_to_grid + t0.grid_update +
+                       t0.transfer_to_particles + t0.plasticity);
+  state.counters["real_time_factor"] = sim / wall;
+}
+BENCHMARK(lagrangianStep)
+    ->ArgsProduct({{0, 1}, {30, 400}, {0, 8}})
+    ->ArgNames({"scene", "warm_steps", "history"})
+    ->Iterations(20)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -15,6 +15,7 @@
 #include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
+#include "cloth_hair_sim/core/mpm/bdf2.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
 #include "cloth_hair_sim/core/mpm/elastic_solid.h"
 #include "cloth_hair_sim/core/mpm/grid_forces.h"
@@ -75,6 +76,8 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
     throw InputError("hybrid shell: display segments per face edge must lie in 1..16");
   positive(s.max_time_step, "maximum time step");
   positive(s.implicit_tolerance, "implicit solve tolerance");
+  if (s.elastic_history < 0 || s.elastic_history > 64)
+    throw InputError("hybrid shell: L-BFGS history of the elastic solve must lie in 0..64");
   if (s.max_newton_iterations < 1 || s.max_krylov_iterations < 1)
     throw InputError("hybrid shell: Newton and Krylov iteration limits must be at least 1");
   if (!(s.krylov_tolerance > 0.0 && s.krylov_tolerance < 1.0))
@@ -105,6 +108,9 @@ struct HybridSnapshot : DynamicsSnapshot {
   std::optional<mpm::HenckySolid> solid_material;
   double solid_wave_speed = 0.0;
   double time = 0.0;
+  std::vector<Vec3> bdf2_x, bdf2_v;  // BDF2's history (kLagrangianBdf2)
+  std::vector<char> bdf2_valid;
+  double bdf2_dt = 0.0;
 };
 
 // Particle state of a state file: kinematics always, mass and volume for a set that the model
@@ -301,13 +307,36 @@ void HybridShellDynamics::solveElasticity(double dt) {
     }
     elasticity_ = std::make_unique<ImplicitElasticity>(kl_points_, n, std::move(links));
   }
-  const double keep = 1.0 / (1.0 + settings_.damping * dt);
   std::vector<Vec3> x_hat(n), x(n), free = free_axes_;
-  // Newton starts from the inertial motion without gravity: from x^ itself a stiff membrane would
-  // start stretched by dt^2 g against its pins, a residual a hundred times larger.
+  // Backward Euler, or BDF2 (a0 x^{n+1} + a1 x^n + a2 x^{n-1} = dt v^{n+1}, the same for v and
+  // a, bdf2.h) for the points that have a history: both minimise sum m_p |x_p - x^_p|^2 /
+  // (2 h_p^2) + Psi(x) with h_p = dt / a0 and x^ = -(a1 x^n + a2 x^{n-1}) / a0
+  // - dt (a1 v^n + a2 v^{n-1}) / a0^2 + h^2 g; the solve takes h_p through the mass m a0^2.
+  // Damping as 1 / (1 + c h) on the velocity part. Newton starts from the inertial motion without
+  // gravity: from x^ itself a stiff membrane would start stretched by h^2 g against its pins, a
+  // residual a hundred times larger.
+  const bool bdf2 = settings_.integration == TimeIntegration::kLagrangianBdf2;
+  if (bdf2 && static_cast<int>(bdf2_.valid.size()) != n) {
+    bdf2_.x.assign(n, Vec3::Zero());
+    bdf2_.v.assign(n, Vec3::Zero());
+    bdf2_.valid.assign(n, 0);
+  }
+  const Bdf2Coefficients second = bdf2Coefficients(dt, bdf2_.dt);
+  step_start_x_ = control_.x;
+  step_start_v_ = control_.v;
+  second_order_.assign(n, 0);
+  std::vector<double> inertia(n);
   for (int p = 0; p < n; ++p) {
-    x[p] = control_.x[p] + dt * keep * control_.v[p];
-    x_hat[p] = x[p] + dt * dt * gravity_;
+    second_order_[p] = bdf2 && bdf2_.valid[p] && bdf2_.dt > 0.0;
+    const Bdf2Coefficients c = second_order_[p] ? second : Bdf2Coefficients{};
+    const double h = dt / c.a0;
+    const double keep = 1.0 / (1.0 + settings_.damping * h);
+    const Vec3 xp = second_order_[p] ? bdf2_.x[p] : Vec3::Zero();
+    const Vec3 vp = second_order_[p] ? bdf2_.v[p] : Vec3::Zero();
+    x[p] = -(c.a1 * control_.x[p] + c.a2 * xp) / c.a0 -
+           keep * dt / (c.a0 * c.a0) * (c.a1 * control_.v[p] + c.a2 * vp);
+    x_hat[p] = x[p] + h * h * gravity_;
+    inertia[p] = control_.mass[p] * c.a0 * c.a0;
   }
   for (int p = 0; p < n; ++p)
     for (int a = 0; a < 3; ++a)
@@ -321,8 +350,9 @@ void HybridShellDynamics::solveElasticity(double dt) {
   es.tolerance = settings_.implicit_tolerance;
   es.max_iterations = settings_.max_newton_iterations;
   es.reuse_factorization = settings_.reuse_factorization;
+  es.history = settings_.elastic_history;
   last_elastic_ = elasticity_->solve(
-      x, x_hat, control_.mass, dt, free, lamina_,
+      x, x_hat, inertia, dt, free, lamina_,
       [this](std::vector<Vec3>& y) { clamps_.placePositions(y); }, es);
   lagrangian_velocity_.resize(n);
   elastic_force_.resize(n);
@@ -338,7 +368,8 @@ bool HybridShellDynamics::updateGrid(double dt) {
 }
 
 bool HybridShellDynamics::updateGrid(double dt, TimeIntegration integration) {
-  if (integration == TimeIntegration::kLagrangianImplicit) {
+  if (integration == TimeIntegration::kLagrangianImplicit ||
+      integration == TimeIntegration::kLagrangianBdf2) {
     StageTimer t(times_.grid_update);
     solveGridMomentum(dt, true);
     return last_solve_.converged() && last_elastic_.converged;
@@ -372,8 +403,34 @@ void HybridShellDynamics::endStep(double dt) {
     StageTimer t(times_.plasticity);
     updatePlasticity();
   }
+  if (settings_.integration == TimeIntegration::kLagrangianBdf2) updateBdf2History(dt);
   time_ += dt;
   ++times_.steps;
+}
+
+// The grid moved each control point by its displacement velocity u = (x^{n+1} - x^n) / dt (the
+// elastic stage's u* plus the grid's change u - u*). BDF2's state velocity is that of the elastic
+// stage, (a0 x* + a1 x^n + a2 x^{n-1}) / dt, plus the grid's change as an impulse. Where the grid
+// changed u by more than a quarter of u* (contact with an obstacle, another layer or body) the
+// point restarts from backward Euler: BDF2 extrapolates the velocity from before the impact and
+// would bounce it off. Pinned points have no history either (their path is prescribed).
+void HybridShellDynamics::updateBdf2History(double dt) {
+  const Bdf2Coefficients second = bdf2Coefficients(dt, bdf2_.dt);
+  for (int p = 0; p < numVertices(); ++p) {
+    const Vec3 change = control_.v[p] - lagrangian_velocity_[p];
+    const bool smooth =
+        !pins_.isPinned(p) && change.norm() <= 0.25 * lagrangian_velocity_[p].norm();
+    if (second_order_[p] && smooth) {
+      const Vec3 x_elastic = step_start_x_[p] + dt * lagrangian_velocity_[p];
+      control_.v[p] =
+          (second.a0 * x_elastic + second.a1 * step_start_x_[p] + second.a2 * bdf2_.x[p]) / dt +
+          change;
+    }
+    bdf2_.x[p] = step_start_x_[p];
+    bdf2_.v[p] = step_start_v_[p];
+    bdf2_.valid[p] = smooth;
+  }
+  bdf2_.dt = dt;
 }
 
 // Han (5.37)-(5.38): APIC transfer of control and contact particles onto one grid. Pinned
@@ -613,6 +670,7 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
     grid_.velocity[i] = node_velocity[i];
     grid_.momentum[i] = grid_.mass[i] * node_velocity[i];
   }
+  if (contact_only) fibre_field_velocity_ = node_velocity;
   mpm::applyGridColliders(grid_, grid_colliders_, &collider_impulse_);
 }
 
@@ -622,7 +680,7 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
 void HybridShellDynamics::transferToParticles(double dt) {
   // The fibres' map I + dt grad(S v) (carriedVelocity), taken before the transfers move the
   // particles off the positions their supports were recorded at.
-  carriedVelocity(grid_.velocity, fibre_velocity_);
+  carriedVelocity(lagrangian() ? fibre_field_velocity_ : grid_.velocity, fibre_velocity_);
   mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x,
                                         settings_.kernel_degree, supports_[1], fibre_gradient_);
   std::fill(control_.F.begin(), control_.F.end(), Eigen::Matrix3d::Identity());
@@ -776,6 +834,7 @@ void HybridShellDynamics::setPositions(const std::vector<Vec3>& x) {
                      std::to_string(numVertices()) + " control points");
   control_.x = x;
   clamps_.placePositions(control_.x);
+  std::fill(bdf2_.valid.begin(), bdf2_.valid.end(), 0);
   // A placed surface starts out of contact: its fibres are reset to the new normals (kept,
   // a fibre of the old orientation would read a turned garment as sheared through itself).
   for (int p = 0; p < contact_.size(); ++p) {
@@ -793,6 +852,7 @@ void HybridShellDynamics::setVelocities(const std::vector<Vec3>& v) {
   control_.v = v;
   clamps_.placeVelocities(control_.v);
   for (auto& C : control_.C) C.setZero();
+  std::fill(bdf2_.valid.begin(), bdf2_.valid.end(), 0);  // a new start: backward Euler first
   // Contact particles take the surface's velocity; their affine part restarts at zero.
   for (int p = 0; p < contact_.size(); ++p) {
     contact_.p.v[p] = contact_.stencil.position(p, control_.v);
@@ -909,11 +969,17 @@ std::unique_ptr<DynamicsSnapshot> HybridShellDynamics::snapshot() const {
   s->solid_material = solid_material_;
   s->solid_wave_speed = solid_wave_speed_;
   s->time = time_;
+  s->bdf2_x = bdf2_.x;
+  s->bdf2_v = bdf2_.v;
+  s->bdf2_valid = bdf2_.valid;
+  s->bdf2_dt = bdf2_.dt;
   return s;
 }
 
 void HybridShellDynamics::restore(const DynamicsSnapshot& snapshot) {
   const auto& s = dynamic_cast<const HybridSnapshot&>(snapshot);
+  // The elastic solve's factor and L-BFGS pairs may come from a rolled-back step.
+  if (elasticity_) elasticity_->invalidate();
   control_ = s.control;
   contact_.p = s.contact;
   contact_.fibre = s.fibre;
@@ -925,6 +991,10 @@ void HybridShellDynamics::restore(const DynamicsSnapshot& snapshot) {
   solid_material_ = s.solid_material;
   solid_wave_speed_ = s.solid_wave_speed;
   time_ = s.time;
+  bdf2_.x = s.bdf2_x;
+  bdf2_.v = s.bdf2_v;
+  bdf2_.valid = s.bdf2_valid;
+  bdf2_.dt = s.bdf2_dt;
 }
 
 void HybridShellDynamics::writeState(StateWriter& out) const {
@@ -987,6 +1057,8 @@ void HybridShellDynamics::readState(StateReader& in) {
   solid_wave_speed_ = solid_wave_speed;
   pins_ = std::move(pins);
   time_ = time;
+  // State files hold one time level: the first step after a load is backward Euler.
+  std::fill(bdf2_.valid.begin(), bdf2_.valid.end(), 0);
 }
 
 void HybridShellDynamics::addSolid(mpm::Particles particles, const mpm::HenckySolid& material) {

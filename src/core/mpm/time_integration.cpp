@@ -12,16 +12,19 @@ std::string timeIntegrationName(TimeIntegration integration) {
       return "backward_euler";
     case TimeIntegration::kLagrangianImplicit:
       return "lagrangian_implicit";
+    case TimeIntegration::kLagrangianBdf2:
+      return "lagrangian_bdf2";
   }
   return "unknown";
 }
 
 TimeIntegration timeIntegrationFromName(const std::string& name) {
   for (TimeIntegration i : {TimeIntegration::kSymplecticEuler, TimeIntegration::kBackwardEuler,
-                            TimeIntegration::kLagrangianImplicit})
+                            TimeIntegration::kLagrangianImplicit, TimeIntegration::kLagrangianBdf2})
     if (name == timeIntegrationName(i)) return i;
   throw InputError("integration '" + name +
-                   "': must be symplectic_euler, backward_euler or lagrangian_implicit");
+                   "': must be symplectic_euler, backward_euler, lagrangian_implicit or "
+                   "lagrangian_bdf2");
 }
 
 }  // namespace chs

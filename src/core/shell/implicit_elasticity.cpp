@@ -1,6 +1,7 @@
 #include "cloth_hair_sim/core/shell/implicit_elasticity.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -124,7 +125,8 @@ double ImplicitElasticity::incrementalPotential(const std::vector<Vec3>& x,
 
 void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<double>& mass,
                                   double dt, const std::vector<Vec3>& free,
-                                  const HenckyLamina& material) {
+                                  const HenckyLamina& material, ImplicitElasticityResult& result) {
+  const auto start = std::chrono::steady_clock::now();
   const std::size_t nv = 9 * block_col_.size();
   tbb::enumerable_thread_specific<std::vector<double>> local(
       [nv] { return std::vector<double>(nv, 0.0); });
@@ -142,7 +144,8 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
       Eigen::Matrix<double, 3, 15> T = Eigen::Matrix<double, 3, 15>::Zero();
       for (int a = 0; a < 5; ++a) T += (*c[a])[k] * H.block<3, 15>(3 * a, 0);
       const int pk = st.points[k];
-      for (int l = 0; l < S; ++l) {
+      // Block (l, k) is block (k, l) transposed: half the pairs suffice.
+      for (int l = 0; l <= k; ++l) {
         Mat3 B = Mat3::Zero();
         for (int b = 0; b < 5; ++b) B += (*c[b])[l] * T.block<3, 3>(0, 3 * b);
         const int pl = st.points[l];
@@ -151,6 +154,10 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
         double* dst = &v[9 * static_cast<std::size_t>(slot[k * S + l])];
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) dst[3 * i + j] += B(i, j);
+        if (l == k) continue;
+        dst = &v[9 * static_cast<std::size_t>(slot[l * S + k])];
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) dst[3 * i + j] += B(j, i);
       }
     }
   });
@@ -175,12 +182,16 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
     }
   double* a = matrix_.valuePtr();
   for (std::size_t i = 0; i < nv; ++i) a[value_index_[i]] = values[i];
+  const auto assembled = std::chrono::steady_clock::now();
+  result.assembly_seconds += std::chrono::duration<double>(assembled - start).count();
   if (!factor_->analyzed) {
     factor_->llt.analyzePattern(matrix_);
     factor_->analyzed = true;
   }
   factor_->llt.factorize(matrix_);
   factored_ = factor_->llt.info() == Eigen::Success;
+  result.factorization_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - assembled).count();
   factored_dt_ = dt;
   factored_free_ = free;
 }
@@ -203,22 +214,58 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     folded_mass[owner[p]] += mass[p] * links_.map[p].squaredNorm() / 3.0;
     total_mass += mass[p];
   }
-  Eigen::VectorXd g(3 * n_);
-  // dPhi/dy of the unknowns y (owners' free axes), and the residual norm dt |g| weighted by mass.
+  Eigen::VectorXd g(3 * n_), g_elastic(3 * n_);
+  auto held = [&](int p, int a) { return owner[p] != p || free[p][a] == 0.0; };
+  // dPhi/dy of the unknowns y (owners' free axes) and its elastic part dPsi/dy, and the residual
+  // norm dt |g| weighted by mass.
   auto foldGradient = [&]() {
     g.setZero();
+    g_elastic.setZero();
     for (int p = 0; p < n_; ++p) {
-      const Vec3 gp = mass[p] * (x[p] - x_hat[p]) / (dt * dt) + gradient_[p];
-      g.segment<3>(3 * owner[p]) += links_.map[p].transpose() * gp;
+      g_elastic.segment<3>(3 * owner[p]) += links_.map[p].transpose() * gradient_[p];
+      g.segment<3>(3 * owner[p]) +=
+          links_.map[p].transpose() * (mass[p] * (x[p] - x_hat[p]) / (dt * dt));
     }
+    g += g_elastic;
     double r2 = 0.0;
     for (int p = 0; p < n_; ++p) {
       for (int a = 0; a < 3; ++a)
-        if (owner[p] != p || free[p][a] == 0.0) g(3 * p + a) = 0.0;
+        if (held(p, a)) g(3 * p + a) = g_elastic(3 * p + a) = 0.0;
       if (owner[p] == p && folded_mass[p] > 0.0)
         r2 += dt * dt * g.segment<3>(3 * p).squaredNorm() / folded_mass[p];
     }
     return std::sqrt(r2 / total_mass);
+  };
+  // The mass term's Hessian J^T M J / dt^2 applied to an increment of the unknowns.
+  std::vector<Mat3> folded_mass_block(n, Mat3::Zero());
+  for (int p = 0; p < n_; ++p)
+    folded_mass_block[owner[p]] += mass[p] * links_.map[p].transpose() * links_.map[p];
+  auto massTimes = [&](const Eigen::VectorXd& v) {
+    Eigen::VectorXd mv(3 * n_);
+    for (int p = 0; p < n_; ++p) mv.segment<3>(3 * p) = folded_mass_block[p] * v.segment<3>(3 * p);
+    for (int p = 0; p < n_; ++p)
+      for (int a = 0; a < 3; ++a)
+        if (held(p, a)) mv(3 * p + a) = 0.0;
+    return Eigen::VectorXd(mv / (dt * dt));
+  };
+  // L-BFGS on the kept factor (Liu, Bouaziz and Kavan 2017 precondition it with a constant
+  // matrix; here it is the last factorised Hessian): the direction -H g from the two-loop
+  // recursion over the kept pairs, the elastic curvature pairs (s, y_Psi) completed by this step's
+  // exact mass term, y = y_Psi + M s / dt^2, so pairs of earlier steps (another dt) stay valid.
+  auto direction = [&]() {
+    Eigen::VectorXd q = g;
+    const int m = static_cast<int>(pair_s_.size());
+    std::vector<double> alpha(m), rho(m);
+    std::vector<Eigen::VectorXd> y(m);
+    for (int i = m - 1; i >= 0; --i) {
+      y[i] = pair_y_[i] + massTimes(pair_s_[i]);
+      rho[i] = 1.0 / y[i].dot(pair_s_[i]);
+      alpha[i] = rho[i] * pair_s_[i].dot(q);
+      q -= alpha[i] * y[i];
+    }
+    Eigen::VectorXd r = factor_->llt.solve(q);
+    for (int i = 0; i < m; ++i) r += pair_s_[i] * (alpha[i] - rho[i] * y[i].dot(r));
+    return Eigen::VectorXd(-r);
   };
   ImplicitElasticityResult result;
   double phi = incrementalPotential(x, x_hat, mass, dt, material, true);
@@ -237,12 +284,14 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     bool accepted = false, fresh_used = false;
     for (int attempt = 0; attempt < 2 && !accepted; ++attempt) {
       if (fresh || !factored_) {
-        assemble(x, mass, dt, free, material);
+        assemble(x, mass, dt, free, material, result);
+        pair_s_.clear();  // the new factor holds what they approximated
+        pair_y_.clear();
         ++result.factorizations;
         fresh_used = true;
         if (!factored_) break;  // not positive definite: cannot happen with the projection
       }
-      const Eigen::VectorXd d = -factor_->llt.solve(g);
+      const Eigen::VectorXd d = direction();
       const double slope = g.dot(d);
       double alpha = 1.0;
       for (int cut = 0; cut <= 12; ++cut, alpha *= 0.5) {
@@ -252,6 +301,7 @@ ImplicitElasticityResult ImplicitElasticity::solve(
         place(trial);
         std::swap(trial, x);
         const double phi_trial = incrementalPotential(x, x_hat, mass, dt, material, true);
+        ++result.potential_evaluations;
         // Armijo, with room for round-off once Phi has nearly stopped changing.
         if (std::isfinite(phi_trial) &&
             phi_trial <= phi + 1e-4 * alpha * slope + 1e-13 * std::abs(phi)) {
@@ -272,7 +322,23 @@ ImplicitElasticityResult ImplicitElasticity::solve(
       break;
     }
     ++result.iterations;
+    const Eigen::VectorXd g_elastic_before = g_elastic;
+    Eigen::VectorXd step(3 * n_);
+    for (int p = 0; p < n_; ++p) step.segment<3>(3 * p) = x[p] - trial[p];
+    for (int p = 0; p < n_; ++p)
+      for (int a = 0; a < 3; ++a)
+        if (held(p, a)) step(3 * p + a) = 0.0;
     const double residual = foldGradient();
+    // A pair enters if its curvature is positive (then every H of the recursion stays SPD).
+    const Eigen::VectorXd y_elastic = g_elastic - g_elastic_before;
+    if (s.history > 0 && (y_elastic + massTimes(step)).dot(step) > 1e-12 * step.squaredNorm()) {
+      if (static_cast<int>(pair_s_.size()) == s.history) {
+        pair_s_.erase(pair_s_.begin());
+        pair_y_.erase(pair_y_.begin());
+      }
+      pair_s_.push_back(step);
+      pair_y_.push_back(y_elastic);
+    }
     ratio = residual / std::max(result.residual, std::numeric_limits<double>::min());
     result.residual = residual;
   }

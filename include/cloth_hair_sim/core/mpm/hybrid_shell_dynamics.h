@@ -46,11 +46,13 @@ struct HybridShellSettings {
   // the tightest GMRES forcing term (adaptive from 0.5, NewtonKrylovSettings).
   // The Lagrangian implicit step uses the same step length, tolerance and Newton limit for its
   // elastic solve, and keeps its Cholesky factor across iterations and steps while each
-  // iteration still halves the residual (ImplicitElasticitySettings).
+  // iteration still halves the residual, with elastic_history L-BFGS pairs on top of it
+  // (ImplicitElasticitySettings).
   double max_time_step = 1.0 / 240.0;
   double implicit_tolerance = 1e-5;
   int max_newton_iterations = 8;
   bool reuse_factorization = true;
+  int elastic_history = 8;
   // The Lagrangian implicit step's transfer back, Han (4.12): the control points take the grid's
   // velocity (APIC) plus flip_blend times what the transfer averaged away of their elastic
   // velocity. 0: layers of one garment that share nodes move together, as MPM's self-contact
@@ -226,7 +228,12 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   // One step of the stages below with this integration.
   void advance(double dt, TimeIntegration integration);
   bool updateGrid(double dt, TimeIntegration integration);
-  bool lagrangian() const { return settings_.integration == TimeIntegration::kLagrangianImplicit; }
+  bool lagrangian() const {
+    return settings_.integration == TimeIntegration::kLagrangianImplicit ||
+           settings_.integration == TimeIntegration::kLagrangianBdf2;
+  }
+  // BDF2's state velocities from the positions after the grid (kLagrangianBdf2).
+  void updateBdf2History(double dt);
   // The Lagrangian implicit step's elastic stage: the control points' end-of-step positions under
   // elasticity, gravity and damping, taken as their velocities for the grid.
   void solveElasticity(double dt);
@@ -294,6 +301,19 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   std::vector<double> transfer_mass_;           // masses the grid sees (pinned, clamped: none)
   // Fibre velocity field S v, its gradient at the contact particles, and scratch for P(.).
   std::vector<Eigen::Vector3d> fibre_velocity_, projected_, shell_node_force_;
+  // The Lagrangian step's fibres move with the grid's solution before the obstacles' conditions
+  // (transferToParticles).
+  std::vector<Eigen::Vector3d> fibre_field_velocity_;
+  // kLagrangianBdf2: each control point's position and velocity one step before the step's
+  // start, whether it has them (else backward Euler), the length of that step; and this step's
+  // start and the coefficients each point took.
+  struct Bdf2History {
+    std::vector<Eigen::Vector3d> x, v;
+    std::vector<char> valid;
+    double dt = 0.0;
+  } bdf2_;
+  std::vector<Eigen::Vector3d> step_start_x_, step_start_v_;
+  std::vector<char> second_order_;
   std::vector<Eigen::Matrix3d> fibre_gradient_;
 
   RigidSurfaces surfaces_;

@@ -30,13 +30,18 @@ struct ImplicitElasticitySettings {
   // does not. A factorisation costs as much as ~20 iterations on a stale one.
   bool reuse_factorization = true;
   double refresh_ratio = 0.5;
+  // Curvature pairs of L-BFGS kept on top of a kept factorisation (0: plain chord iterations).
+  int history = 8;
 };
 
 struct ImplicitElasticityResult {
   int iterations = 0;      // Newton iterations (back-substitutions)
   int factorizations = 0;  // Hessian assemblies and numeric factorisations
   int line_search_cuts = 0;
+  int potential_evaluations = 0;  // of Phi with its gradient (the line search's trials)
   double initial_residual = 0.0, residual = 0.0;  // [m/s], as the tolerance
+  // Wall time [s] of the fibres' Hessians and their assembly, and of the numeric factorisation.
+  double assembly_seconds = 0.0, factorization_seconds = 0.0;
   bool converged = false;
 };
 
@@ -73,7 +78,11 @@ class ImplicitElasticity {
   // dPsi^KL/dx_p at the returned iterate, per point (not folded): the elastic force is -this.
   const std::vector<Eigen::Vector3d>& elasticGradient() const { return gradient_; }
   // Forget the factorisation (the material or plastic state changed).
-  void invalidate() { factored_ = false; }
+  void invalidate() {
+    factored_ = false;
+    pair_s_.clear();
+    pair_y_.clear();
+  }
 
  private:
   double incrementalPotential(const std::vector<Eigen::Vector3d>& x,
@@ -81,7 +90,8 @@ class ImplicitElasticity {
                               const std::vector<double>& mass, double dt,
                               const HenckyLamina& material, bool with_gradient);
   void assemble(const std::vector<Eigen::Vector3d>& x, const std::vector<double>& mass, double dt,
-                const std::vector<Eigen::Vector3d>& free, const HenckyLamina& material);
+                const std::vector<Eigen::Vector3d>& free, const HenckyLamina& material,
+                ImplicitElasticityResult& result);
 
   const std::vector<KirchhoffLovePoint>& points_;
   int n_;
@@ -99,6 +109,9 @@ class ImplicitElasticity {
   bool factored_ = false;
   double factored_dt_ = 0.0;
   std::vector<Eigen::Vector3d> factored_free_;
+  // L-BFGS pairs since the factorisation, oldest first: increments of the unknowns and the
+  // elastic gradient's change over them (held components zero).
+  std::vector<Eigen::VectorXd> pair_s_, pair_y_;
   std::vector<Eigen::Vector3d> gradient_, folded_;
 };
 
