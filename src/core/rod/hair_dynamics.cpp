@@ -248,17 +248,48 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
     const Vec3 e = target.segment<3>(b) - target.segment<3>(a);
     if (e.norm() > 0.0) q.segment<3>(b) = q.segment<3>(a) + length * e.normalized();
   }
-  // Gripped vertices where the grip carries them by the step's end; their angles stay free. A
-  // free strand's Newton starts from x^n (its inertial target may lie inside an obstacle, where
-  // the contact's energy is not defined) with only those moved.
-  Eigen::VectorXd q_free = s.q_start;
-  for (int i = 0; i < rod.numVertices() && gripped; ++i) {
-    if (s.grip[i] < 0) continue;
-    const int k = DiscreteElasticRod::vertexDof(i);
-    std::fill(loads.held.begin() + k, loads.held.begin() + k + 3, 1);
-    q.segment<3>(k) = q_free.segment<3>(k) = grips_.at(s.grip[i]).motion * s.grip_x[i];
+  // Gripped vertices where the grip carries them by the step's end (their angles stay free), and
+  // the free vertices beside them drawn after them at their edges' lengths, as a chain follows
+  // a hand (moved alone, a gripped vertex would stretch its edges by its step's move, which the
+  // stiff stretching takes many Newton iterations to undo). A free strand's Newton starts from
+  // x^n so moved (its inertial target may lie inside an obstacle, where the contact's energy is
+  // not defined); a drawn vertex that would enter an obstacle stays, and the chain stops there.
+  if (gripped) {
+    Eigen::VectorXd start = s.q_start;
+    Eigen::VectorXd& q0 = s.clamped ? q : start;
+    const auto vertex = [&](int i) { return q0.segment<3>(DiscreteElasticRod::vertexDof(i)); };
+    const auto admissible = [&](int i, const Vec3& x) {
+      const Vec3 x_start = s.q_start.segment<3>(DiscreteElasticRod::vertexDof(i));
+      for (const StrandObstacle& o : obstacles_)
+        if (o.surface->project(x - dt * o.velocity.at(x_start)).gap < 0.0) return false;
+      return true;
+    };
+    const auto draw = [&](int from, int step) {
+      for (int b = from + step; b >= 0 && b < rod.numVertices() && !held(s, b); b += step) {
+        const int a = b - step;
+        const double length = (s.q_start.segment<3>(DiscreteElasticRod::vertexDof(b)) -
+                               s.q_start.segment<3>(DiscreteElasticRod::vertexDof(a)))
+                                  .norm();
+        const Vec3 e = vertex(b) - vertex(a);
+        if (e.norm() == 0.0) break;
+        const Vec3 x = vertex(a) + length * e.normalized();
+        if (!admissible(b, x)) break;
+        vertex(b) = x;
+      }
+    };
+    for (int i = 0; i < rod.numVertices(); ++i) {
+      if (s.grip[i] < 0) continue;
+      const int k = DiscreteElasticRod::vertexDof(i);
+      std::fill(loads.held.begin() + k, loads.held.begin() + k + 3, 1);
+      q0.segment<3>(k) = grips_.at(s.grip[i]).motion * s.grip_x[i];
+      draw(i, 1);
+      draw(i, -1);
+    }
+    if (!s.clamped) {
+      q = q0;
+      rod.setConfiguration(q);
+    }
   }
-  if (gripped && !s.clamped) rod.setConfiguration(q_free);
   if (s.clamped) {
     rod.setConfiguration(q);
     // The first angle turns the (transported) reference director onto the clamp's director,
@@ -521,7 +552,9 @@ void HairDynamics::restore(const DynamicsSnapshot& snapshot) {
       particles_.v[strand.offset + i] = strand.v[i];
     }
   }
-  for (auto& [id, g] : grips_) {  // grips made since the snapshot keep their motion
+  // Grips back at their motion then, as the clamps' root frames: a step redone in parts (a
+  // caller's rollback) does not take the whole step's move of the grip in its first part.
+  for (auto& [id, g] : grips_) {
     const auto it = s->grip_motions.find(id);
     if (it != s->grip_motions.end()) g.motion = it->second;
   }
