@@ -974,7 +974,7 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
   } else if (hair != hairs_.end()) {
     graspHair(req, pose, hair->second, res);
   } else if (it == garments_.end()) {
-    res.message = who + "no garment or hair '" + req.garment + "' is loaded";
+    res.message = who + "no garment '" + req.garment + "' is loaded (nor hair of that name)";
   } else {
     chs::ClothDynamics& dyn = *it->second.dynamics;
     const std::vector<int> held = freeVerticesNear(dyn, pose.translation(), req.radius);

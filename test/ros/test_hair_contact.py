@@ -179,7 +179,7 @@ class HairContact(unittest.TestCase):
         for bad, why in ((dict(radius=0.0), 'radius'), (dict(radius=-0.01), 'radius'),
                          (dict(frame_id='nowhere'), 'no transform'),
                          (dict(frame_id='head'), 'no free vertex'),
-                         (dict(garment='nohair'), 'no garment or hair')):
+                         (dict(garment='nohair'), 'nor hair')):
             args = dict(name='pinch', garment='lock', frame_id='gripper', radius=0.006)
             args.update(bad)
             r = self.grasp(**args)
