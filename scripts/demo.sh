@@ -1,13 +1,24 @@
 #!/usr/bin/env bash
 # Runs launch/demo.launch for DURATION seconds under a virtual X server (Xvfb): the mannequin
-# moves, a sheet drapes over it, rosbag records markers, tf, joint states and status, and rviz
-# screenshots are saved as PNG. Prints a summary. Usage: scripts/demo.sh [out_dir] [build_dir]
+# moves, hair grows on the back of its head (HAIR=1, the default; HAIR_GUIDES guide strands) or a
+# garment drapes over it (HAIR=0: GARMENT, sheet by default; GARMENT with hair: both, slower than
+# real time), rosbag records markers, tf, joint states and status, and rviz screenshots are saved
+# as PNG. Prints a summary.
+# Usage: scripts/demo.sh [out_dir] [build_dir]
 set -euo pipefail
 OUT="$(realpath -m "${1:-demo_output}")"
 BUILD="$(realpath "${2:-build}")"
 DURATION="${DURATION:-20}"
 MOTION="${MOTION:-arms_raise}"
-GARMENT="${GARMENT:-sheet}"
+HAIR="${HAIR:-1}"
+HAIR_GUIDES="${HAIR_GUIDES:-30}"
+if [ "$HAIR" = 1 ]; then
+  GARMENT="${GARMENT:-none}"
+  HAIR_ARG=true
+else
+  GARMENT="${GARMENT:-sheet}"
+  HAIR_ARG=false
+fi
 DISPLAY_NUM="${DISPLAY_NUM:-:99}"
 export PATH="/usr/bin:$PATH" ROSCONSOLE_STDOUT_LINE_BUFFERED=1
 set +u
@@ -31,9 +42,10 @@ pids+=($!)
 export DISPLAY="$DISPLAY_NUM"
 sleep 1
 
-echo "demo: ${DURATION} s of '$MOTION' with a $GARMENT under Xvfb $DISPLAY_NUM (log: $LOG)"
+echo "demo: ${DURATION} s of '$MOTION' with a $GARMENT, hair $HAIR_ARG ($HAIR_GUIDES guides) under" \
+  "Xvfb $DISPLAY_NUM (log: $LOG)"
 roslaunch cloth_hair_sim demo.launch rviz:=true record:=true bag:="$BAG" duration:="$DURATION" \
-  garment:="$GARMENT" motion:="$MOTION" >"$LOG" 2>&1 &
+  garment:="$GARMENT" motion:="$MOTION" hair:="$HAIR_ARG" hair_guides:="$HAIR_GUIDES" >"$LOG" 2>&1 &
 launch_pid=$!
 pids+=("$launch_pid")
 

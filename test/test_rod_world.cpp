@@ -4,8 +4,9 @@
 // real hair (E = 3.5 GPa, r = 40 um) steps stably at 1/240 s and 1/60 s, clamps follow a moving
 // root frame, a curl stays at rest and
 // sags to its static equilibrium under gravity, a strand rests on a garment of the same world,
-// snapshots restore, the clamp carries the strand's weight and moment,
-// and bad input is refused.
+// snapshots restore, the clamp carries the strand's weight and moment, strands draped over a
+// horizontal capsule (a comb) load it with their weight, a grip carries a lock's weight and moment
+// as it lifts it and lets it fall when removed, and bad input is refused.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/contact/capsule_surface.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
@@ -339,6 +341,101 @@ TEST(HairWorld, ClampCarriesTheStrandsWeight) {
   EXPECT_LT((h.torque + moment).norm(), 1e-6 * moment.norm());
 }
 
+// Free strands draped across a horizontal capsule (a comb's bar, mu = 0.5), symmetric about it:
+// they sag round it to rest, and the load the capsule takes is their weight, straight down.
+TEST(HairWorld, StrandsOverCapsuleReportWeight) {
+  auto w = hairWorld(settings());
+  const double r = 0.01, lift = r + humanHair().radius_1;
+  for (double y : {-0.02, 0.0, 0.02})
+    w->hair->addStrand(straightStrand(Vec3(-0.04, y, lift), Vec3::UnitX(), 0.08, 32), humanHair(),
+                       false);
+  w->world.setColliders({std::make_shared<CapsuleSurface>(Vec3(0, -0.05, 0), Vec3(0, 0.05, 0), r)},
+                        {}, {0.5});
+  const double dt = 1.0 / 240.0;
+  Vec3 mean = Vec3::Zero();
+  int samples = 0;
+  for (int step = 0; step < 720; ++step) {
+    w->world.step(dt);
+    if (step >= 600) {  // the last half second, at rest
+      mean += w->world.colliderLoads()[0].force;
+      ++samples;
+    }
+  }
+  mean /= samples;
+  const double weight = w->hair->totalMass() * kG;
+  const Vec3 end = w->hair->strand(1).positions().back();
+  std::printf(
+      "3 strands over a capsule: load (%.4e, %.4e, %.4e) N, weight %.4e N, error %.2e; "
+      "tip of the middle one at (%.4f, %.4f) m, kinetic energy %.2e J\n",
+      mean.x(), mean.y(), mean.z(), weight, std::abs(-mean.z() - weight) / weight, end.x(), end.z(),
+      w->hair->kineticEnergy());
+  EXPECT_LT(end.z(), lift - 0.001);  // the overhangs bend down (stiff hair: by millimetres)
+  EXPECT_NEAR(-mean.z(), weight, 0.01 * weight);
+  EXPECT_LT(std::hypot(mean.x(), mean.y()), 0.01 * weight);
+}
+
+// A lock of three free strands hanging straight down, gripped at their top vertices and lifted
+// 5 cm at 5 cm/s, then held: the gripped vertices are where the grip's motion puts them, and the
+// grip carries the lock's weight, with the moment sum_i (x_i - o) x m_i g of the strands'
+// weights about a point o beside it. Removed, the lock falls freely.
+TEST(HairWorld, GripCarriesTheLock) {
+  auto w = hairWorld(settings());
+  std::vector<StrandVertex> top;
+  std::vector<Vec3> top_x;
+  for (double x : {-0.004, 0.0, 0.004}) {
+    top_x.push_back(Vec3(x, 0.0, 0.1));
+    top.push_back({w->hair->addStrand(straightStrand(top_x.back(), -Vec3::UnitZ(), 0.05, 20),
+                                      humanHair(), false),
+                   0});
+  }
+  // Within 3 mm of the middle top: it and the vertex 2.5 mm below it; gripped, only the latter.
+  EXPECT_EQ(w->hair->freeVerticesNear(Vec3(0, 0, 0.1), 0.003).size(), 2u);
+  const int grip = w->hair->addGrip(top);
+  EXPECT_EQ(w->hair->freeVerticesNear(Vec3(0, 0, 0.1), 0.003).size(), 1u);
+  EXPECT_EQ(w->hair->gripVertices(grip).size(), 3u);
+  const double dt = 1.0 / 240.0, speed = 0.05;
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  double off = 0.0;
+  for (int step = 1; step <= 480; ++step) {
+    motion.translation().z() = speed * std::min(step * dt, 1.0);
+    w->hair->setGripFrame(grip, motion);
+    w->world.step(dt);
+    for (std::size_t k = 0; k < top.size(); ++k)
+      off =
+          std::max(off, (w->hair->strand(top[k].strand).positions()[0] - motion * top_x[k]).norm());
+  }
+  const Vec3 o(0.01, 0.0, 0.1 + speed);
+  const HoldingWrench h = w->hair->gripWrench(grip, o);
+  const Vec3 g(0, 0, -kG);
+  Vec3 moment = Vec3::Zero();
+  double mass = 0.0;
+  for (const StrandVertex& sv : top) {
+    double m = 0.0;
+    for (int i = 0; i < w->hair->strand(sv.strand).numVertices(); ++i)
+      m += w->hair->strand(sv.strand).vertexMass(i);
+    moment += (w->hair->strand(sv.strand).positions()[0] - o).cross(-m * g);
+    mass += m;
+  }
+  const Vec3 weight = -mass * g;
+  std::printf(
+      "grip of a 3-strand lock lifted 5 cm and held 1 s: force (%.4e, %.4e, %.4e) N against its "
+      "weight %.4e N (error %.2e); moment (%.4e, %.4e, %.4e) N m against (%.4e, %.4e, %.4e); "
+      "gripped vertices off their frame by %.2e m\n",
+      h.force.x(), h.force.y(), h.force.z(), weight.z(), (h.force - weight).norm() / weight.norm(),
+      h.torque.x(), h.torque.y(), h.torque.z(), moment.x(), moment.y(), moment.z(), off);
+  EXPECT_LT(off, 1e-12);
+  EXPECT_LT((h.force - weight).norm(), 1e-4 * weight.norm());
+  EXPECT_LT((h.torque - moment).norm(), 1e-3 * moment.norm());
+  // Removed: nothing holds it; its centre of mass falls at g (to 1 %) over 0.1 s.
+  w->hair->removeGrip(grip);
+  const Vec3 p0 = w->hair->linearMomentum();
+  for (int step = 0; step < 24; ++step) w->world.step(dt);
+  const double a = (w->hair->linearMomentum() - p0).z() / (mass * 24 * dt);
+  std::printf("released lock: centre of mass acceleration %.4f m/s^2 (g %.2f)\n", a, -kG);
+  EXPECT_NEAR(a, -kG, 0.01 * kG);
+  EXPECT_THROW(w->hair->gripWrench(grip, o), InputError);
+}
+
 TEST(HairWorld, SnapshotRestores) {
   auto w = hairWorld(settings());
   w->world.setColliders({std::make_shared<PlaneSurface>(Vec3(0, 0, 0.02), Vec3::UnitZ())});
@@ -405,6 +502,13 @@ TEST(HairWorld, BadInputIsRefused) {
       "beyond max_vertices");
   refused([&] { w->hair->setRootFrame(3, Eigen::Isometry3d::Identity()); },
           "root frame of no strand");
+  const int clamped =
+      w->hair->addStrand(straightStrand(Vec3::Zero(), Vec3::UnitX(), 0.05, 5), humanHair(), true);
+  refused([&] { w->hair->addGrip({{clamped, 0}, {clamped, 1}}); }, "grip of clamped vertices");
+  refused([&] { w->hair->addGrip({{clamped, 9}}); }, "grip of no vertex");
+  refused([&] { w->hair->addGrip({}); }, "grip of nothing");
+  refused([&] { w->hair->setGripFrame(7, Eigen::Isometry3d::Identity()); }, "frame of no grip");
+  refused([&] { w->hair->removeGrip(7); }, "removal of no grip");
   HairSettings other = settings();
   other.grid_spacing = 2 * kDx;
   refused([&] { w->world.add("other", std::make_shared<HairDynamics>(other)); },

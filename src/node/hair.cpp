@@ -88,6 +88,10 @@ int Hair::numVertices() const {
   return n;
 }
 
+void HairGrasp::gripAt(chs::rod::HairDynamics& body, double alpha) const {
+  body.setGripFrame(grip, interpolate(from, to, alpha) * attached_at.inverse());
+}
+
 void Hair::clampAt(double alpha) {
   const Eigen::Isometry3d motion = interpolate(from, to, alpha) * attached_at.inverse();
   for (int s = 0; s < body->numStrands(); ++s) body->setRootFrame(s, motion);
@@ -111,7 +115,7 @@ void rebuildHairBody(Hair& hair, const Eigen::Isometry3d& world_from_frame,
   for (const auto& s : hair.rest) {
     std::vector<Vec3> x = s;
     for (auto& v : x) v = world_from_frame * v;
-    body->addStrand(x, hair.material);
+    body->addStrand(x, hair.material, !hair.loose);
   }
   hair.body = std::move(body);
   hair.attached_at = hair.from = hair.to = world_from_frame;
@@ -123,6 +127,7 @@ Hair buildHair(const cloth_hair_sim::LoadHair::Request& req,
   Hair h;
   h.name = req.name;
   h.frame_id = req.frame_id;
+  h.loose = req.loose;
   h.material = hairMaterial(req, h.material_name);
   h.rest = hairStrands(req);
   const int display = req.display_strands == 0 ? display_default : std::max(0, req.display_strands);

@@ -331,6 +331,7 @@ void SimNode::advance(int count, double h) {
     const double alpha = static_cast<double>(i + 1) / count;
     for (auto& [g, a] : attached) a->pinAt(*g->dynamics, alpha);
     for (auto& [name, hair] : hairs_) hair.clampAt(alpha);
+    for (auto& [name, grasp] : hair_grasps_) grasp.gripAt(*hairs_.at(grasp.hair).body, alpha);
     if (any_moving) {
       try {
         chs::RigidSurfaces surfaces;
@@ -362,6 +363,14 @@ void SimNode::advance(int count, double h) {
       grasp.sum.torque += w.torque;
       ++grasp.samples;
     }
+    for (auto& [name, grasp] : hair_grasps_) {
+      const chs::HoldingWrench w =
+          hairs_.at(grasp.hair)
+              .body->gripWrench(grasp.grip, interpolate(grasp.from, grasp.to, alpha).translation());
+      grasp.sum.force += w.force;
+      grasp.sum.torque += w.torque;
+      ++grasp.samples;
+    }
     sim_time_ += h;
     ++steps_;
   }
@@ -369,6 +378,7 @@ void SimNode::advance(int count, double h) {
   for (const auto& m : colliders) collider_from_[m.collider->name] = m.collider->world_from_frame;
   for (auto& [g, a] : attached) a->from = a->to;
   for (auto& [name, hair] : hairs_) hair.from = hair.to;
+  for (auto& [name, grasp] : hair_grasps_) grasp.from = grasp.to;
 }
 
 bool SimNode::lookupFrame(const std::string& frame, double timeout, Eigen::Isometry3d& pose,
@@ -434,6 +444,11 @@ void SimNode::refreshAttachments() {
   for (auto& [name, g] : garments_)
     for (auto& a : g.frame_pins) update(a);
   for (auto& [name, grasp] : grasps_) update(grasp.attachment);
+  for (auto& [name, grasp] : hair_grasps_) {
+    const Lookup& l = lookup(grasp.frame_id, "a grasped lock of hair");
+    grasp.stale = !l.ok;
+    if (l.ok) grasp.to = l.pose;
+  }
   for (auto& [name, hair] : hairs_) {
     const Lookup& l = lookup(hair.frame_id, "hair roots");
     hair.stale = !l.ok;
@@ -486,6 +501,7 @@ void SimNode::publishGraspWrenches(double duration) {
     msg.wrench.torque.z = t.z();
     grasp.wrench_pub.publish(msg);
   }
+  publishHairGraspWrenches();
 }
 
 std::vector<std::string> SimNode::dropGrasps(const std::string& garment) {
@@ -591,6 +607,7 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
     s.transforms_ok = transforms_ok_;
     s.stale_colliders = colliders_.staleNames();
     for (const auto& [name, grasp] : grasps_) s.grasps.push_back(name);
+    for (const auto& [name, grasp] : hair_grasps_) s.grasps.push_back(name);
   }
   s.drape_running = drape_running_;
   status_pub_.publish(s);
@@ -774,7 +791,10 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
     }
     // Hair restarts at rest where its root frame is now.
     const chs::rod::HairSettings hair_settings = hairSettings();
-    for (auto& [name, h] : hairs_) rebuildHairBody(h, h.to, hair_settings);
+    for (auto& [name, h] : hairs_) {
+      for (const auto& n : dropHairGrasps(name)) released.push_back(n);  // grips of the old body
+      rebuildHairBody(h, h.to, hair_settings);
+    }
     world_ = worldOf(garments_);
   } catch (const std::exception& e) {
     world_ = worldOf(garments_);  // the garments reset before the failure, with the others
@@ -948,10 +968,13 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
   }
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = garments_.find(req.garment);
-  if (grasps_.count(req.name)) {
+  const auto hair = hairs_.find(req.garment);
+  if (grasps_.count(req.name) || hair_grasps_.count(req.name)) {
     res.message = who + "a grasp of that name is active; release it first";
+  } else if (hair != hairs_.end()) {
+    graspHair(req, pose, hair->second, res);
   } else if (it == garments_.end()) {
-    res.message = who + "no garment '" + req.garment + "' is loaded";
+    res.message = who + "no garment '" + req.garment + "' is loaded (nor hair of that name)";
   } else {
     chs::ClothDynamics& dyn = *it->second.dynamics;
     const std::vector<int> held = freeVerticesNear(dyn, pose.translation(), req.radius);
@@ -988,6 +1011,21 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
 bool SimNode::release(cloth_hair_sim::ReleaseGrasp::Request& req,
                       cloth_hair_sim::ReleaseGrasp::Response& res) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (const auto hg = hair_grasps_.find(req.name); hg != hair_grasps_.end()) {
+    const auto h = hairs_.find(hg->second.hair);
+    std::size_t n = 0;
+    if (h != hairs_.end()) {
+      n = h->second.body->gripVertices(hg->second.grip).size();
+      h->second.body->removeGrip(hg->second.grip);
+    }
+    hg->second.wrench_pub.shutdown();
+    res.success = true;
+    res.message = "grasp '" + req.name + "': released " + std::to_string(n) +
+                  " vertices of hair '" + hg->second.hair + "'";
+    hair_grasps_.erase(hg);
+    ROS_INFO("%s", res.message.c_str());
+    return true;
+  }
   const auto it = grasps_.find(req.name);
   res.success = it != grasps_.end();
   if (!res.success) {

@@ -3,10 +3,12 @@
 #include <string>
 #include <vector>
 
+#include <ros/publisher.h>
 #include <visualization_msgs/Marker.h>
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/LoadHair.h"
+#include "cloth_hair_sim/core/dynamics/holding_wrench.h"
 #include "cloth_hair_sim/core/rod/display_strands.h"
 #include "cloth_hair_sim/core/rod/groom.h"
 #include "cloth_hair_sim/core/rod/hair_dynamics.h"
@@ -26,6 +28,7 @@ struct Hair {
   Eigen::Isometry3d from = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d to = Eigen::Isometry3d::Identity();
   bool stale = false;  // the last lookup failed: `to` holds the last pose
+  bool loose = false;  // roots not clamped
   int diverged_stops = 0;
 
   int numVertices() const;
@@ -33,6 +36,26 @@ struct Hair {
   void clampAt(double alpha);
   // The guides now, then the display strands.
   chs::rod::Polylines drawnStrands() const;
+};
+
+// A gripper's grasp of a lock of hair (~grasp on hair): a grip of its body
+// (HairDynamics::addGrip) carried by a tf frame, moving from `from` to `to` within an update as
+// Hair's roots do, and the publisher of the wrench it feels.
+struct HairGrasp {
+  std::string name, hair, frame_id;
+  int grip = -1;
+  Eigen::Isometry3d attached_at = Eigen::Isometry3d::Identity();  // the frame when gripped
+  Eigen::Isometry3d from = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d to = Eigen::Isometry3d::Identity();
+  bool stale = false;
+  ros::Publisher wrench_pub;
+  // The grip's wrench summed over the update's substeps, about the frame origin of each: the
+  // published wrench is their mean (as Grasp's).
+  chs::HoldingWrench sum;
+  int samples = 0;
+
+  // Carries the grip where the frame is at fraction alpha of the update.
+  void gripAt(chs::rod::HairDynamics& body, double alpha) const;
 };
 
 // Builds hair from a ~load_hair request, its body on `settings` (the world's grid) at the root

@@ -87,6 +87,14 @@ class SimNode {
              cloth_hair_sim::GraspGarment::Response& res);
   bool release(cloth_hair_sim::ReleaseGrasp::Request& req,
                cloth_hair_sim::ReleaseGrasp::Response& res);
+  // Under mutex_ (sim_node_hair.cpp): ~grasp of loaded hair, the gripper frame at world pose
+  // `pose`; fills res (refused: a message naming the problem).
+  void graspHair(const cloth_hair_sim::GraspGarment::Request& req, const Eigen::Isometry3d& pose,
+                 Hair& hair, cloth_hair_sim::GraspGarment::Response& res);
+  // Under mutex_: drops the grasps of a hair (removed or reset); returns their names.
+  std::vector<std::string> dropHairGrasps(const std::string& hair);
+  // Under mutex_: publishes each hair grasp's mean wrench of the update.
+  void publishHairGraspWrenches();
   // ~save_state, ~load_state (state_io.h): the whole simulation to or from a file; a refused load
   // leaves the running simulation as it was.
   bool saveState(cloth_hair_sim::StateFile::Request& req, cloth_hair_sim::StateFile::Response& res);
@@ -167,6 +175,7 @@ class SimNode {
   std::map<std::string, ColliderLoadSum> collider_loads_;  // this update's, per collider
   std::map<std::string, ros::Publisher> collider_wrench_pubs_;
   std::map<std::string, Grasp> grasps_;
+  std::map<std::string, HairGrasp> hair_grasps_;  // names unique with grasps_
   // Collider poses at the start of the current update: colliders move from there to their
   // current pose over the update's substeps, with the velocity that takes.
   std::map<std::string, Eigen::Isometry3d> collider_from_;

@@ -21,6 +21,7 @@ struct HairSnapshot : DynamicsSnapshot {
   std::vector<std::vector<Vec3>> v;
   std::vector<std::vector<double>> omega;
   std::vector<Eigen::Isometry3d> poses;
+  std::map<int, Eigen::Isometry3d> grip_motions;
   std::vector<Eigen::Matrix3d> C;
   double time = 0.0;
 };
@@ -71,6 +72,9 @@ int HairDynamics::addStrand(const std::vector<Vec3>& rest, const RodMaterial& ma
   s.v.assign(nv, Vec3::Zero());
   s.omega.assign(s.rod.numEdges(), 0.0);
   s.force.assign(nv, Vec3::Zero());
+  s.grip.assign(nv, -1);
+  s.grip_x.assign(nv, Vec3::Zero());
+  s.hold_force.assign(nv, Vec3::Zero());
   s.clamped = clamped;
   s.root_x0 = rest[0];
   s.root_x1 = rest[1];
@@ -118,6 +122,79 @@ HoldingWrench HairDynamics::clampWrench(int s) const {
   return strands_[s].clamp;
 }
 
+const HairDynamics::Grip& HairDynamics::grip(int id) const {
+  const auto it = grips_.find(id);
+  if (it == grips_.end()) throw InputError("hair: no grip " + std::to_string(id));
+  return it->second;
+}
+
+int HairDynamics::addGrip(const std::vector<StrandVertex>& vertices) {
+  std::vector<StrandVertex> taken;
+  for (const StrandVertex& sv : vertices) {
+    checkStrand(sv.strand);
+    const Strand& s = strands_[sv.strand];
+    if (sv.vertex < 0 || sv.vertex >= s.rod.numVertices())
+      throw InputError("hair: strand " + std::to_string(sv.strand) + " has no vertex " +
+                       std::to_string(sv.vertex));
+    const bool repeated = std::any_of(taken.begin(), taken.end(), [&](const StrandVertex& t) {
+      return t.strand == sv.strand && t.vertex == sv.vertex;
+    });
+    if (!held(s, sv.vertex) && !repeated) taken.push_back(sv);
+  }
+  if (taken.empty()) throw InputError("hair: a grip of no free vertex");
+  const int id = next_grip_++;
+  for (const StrandVertex& sv : taken) {
+    Strand& s = strands_[sv.strand];
+    s.grip[sv.vertex] = id;
+    s.grip_x[sv.vertex] = s.rod.positions()[sv.vertex];
+    s.hold_force[sv.vertex].setZero();
+    particles_.mass[s.offset + sv.vertex] = 0.0;  // held: a boundary condition, as a clamp
+  }
+  grips_[id].vertices = std::move(taken);
+  return id;
+}
+
+void HairDynamics::setGripFrame(int id, const Eigen::Isometry3d& motion) {
+  grip(id);
+  if (!motion.matrix().allFinite()) throw InputError("hair: grip frame must be finite");
+  grips_[id].motion = motion;
+}
+
+void HairDynamics::removeGrip(int id) {
+  for (const StrandVertex& sv : grip(id).vertices) {
+    Strand& s = strands_[sv.strand];
+    s.grip[sv.vertex] = -1;
+    s.hold_force[sv.vertex].setZero();
+    particles_.mass[s.offset + sv.vertex] = s.rod.vertexMass(sv.vertex);
+  }
+  grips_.erase(id);
+}
+
+const std::vector<StrandVertex>& HairDynamics::gripVertices(int id) const {
+  return grip(id).vertices;
+}
+
+HoldingWrench HairDynamics::gripWrench(int id, const Vec3& origin) const {
+  HoldingWrench w;
+  for (const StrandVertex& sv : grip(id).vertices) {
+    const Strand& s = strands_[sv.strand];
+    const Vec3& f = s.hold_force[sv.vertex];
+    w.force += f;
+    w.torque += (s.rod.positions()[sv.vertex] - origin).cross(f);
+  }
+  return w;
+}
+
+std::vector<StrandVertex> HairDynamics::freeVerticesNear(const Vec3& centre, double radius) const {
+  std::vector<StrandVertex> out;
+  for (int k = 0; k < numStrands(); ++k) {
+    const Strand& s = strands_[k];
+    for (int i = 0; i < s.rod.numVertices(); ++i)
+      if (!held(s, i) && (s.rod.positions()[i] - centre).norm() <= radius) out.push_back({k, i});
+  }
+  return out;
+}
+
 void HairDynamics::setVertexForce(int s, int vertex, const Vec3& force) {
   checkStrand(s);
   if (vertex < 0 || vertex >= strands_[s].rod.numVertices())
@@ -158,8 +235,9 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
   // lengths at x^n (a straight extrapolation of a turning strand stretches it, which its stiff
   // stretching would take several Newton iterations to undo).
   Eigen::VectorXd q = target;
+  const bool gripped = std::any_of(s.grip.begin(), s.grip.end(), [](int g) { return g >= 0; });
+  if (s.clamped || gripped) loads.held.assign(rod.numDofs(), 0);
   if (s.clamped) {
-    loads.held.assign(rod.numDofs(), 0);
     std::fill(loads.held.begin(), loads.held.begin() + 7, 1);
     q.segment<3>(0) = s.pose * s.root_x0;
     q.segment<3>(4) = s.pose * s.root_x1;
@@ -169,6 +247,48 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
     const double length = (s.q_start.segment<3>(b) - s.q_start.segment<3>(a)).norm();
     const Vec3 e = target.segment<3>(b) - target.segment<3>(a);
     if (e.norm() > 0.0) q.segment<3>(b) = q.segment<3>(a) + length * e.normalized();
+  }
+  // Gripped vertices where the grip carries them by the step's end (their angles stay free), and
+  // the free vertices beside them drawn after them at their edges' lengths, as a chain follows
+  // a hand (moved alone, a gripped vertex would stretch its edges by its step's move, which the
+  // stiff stretching takes many Newton iterations to undo). A free strand's Newton starts from
+  // x^n so moved (its inertial target may lie inside an obstacle, where the contact's energy is
+  // not defined); a drawn vertex that would enter an obstacle stays, and the chain stops there.
+  if (gripped) {
+    Eigen::VectorXd start = s.q_start;
+    Eigen::VectorXd& q0 = s.clamped ? q : start;
+    const auto vertex = [&](int i) { return q0.segment<3>(DiscreteElasticRod::vertexDof(i)); };
+    const auto admissible = [&](int i, const Vec3& x) {
+      const Vec3 x_start = s.q_start.segment<3>(DiscreteElasticRod::vertexDof(i));
+      for (const StrandObstacle& o : obstacles_)
+        if (o.surface->project(x - dt * o.velocity.at(x_start)).gap < 0.0) return false;
+      return true;
+    };
+    const auto draw = [&](int from, int step) {
+      for (int b = from + step; b >= 0 && b < rod.numVertices() && !held(s, b); b += step) {
+        const int a = b - step;
+        const double length = (s.q_start.segment<3>(DiscreteElasticRod::vertexDof(b)) -
+                               s.q_start.segment<3>(DiscreteElasticRod::vertexDof(a)))
+                                  .norm();
+        const Vec3 e = vertex(b) - vertex(a);
+        if (e.norm() == 0.0) break;
+        const Vec3 x = vertex(a) + length * e.normalized();
+        if (!admissible(b, x)) break;
+        vertex(b) = x;
+      }
+    };
+    for (int i = 0; i < rod.numVertices(); ++i) {
+      if (s.grip[i] < 0) continue;
+      const int k = DiscreteElasticRod::vertexDof(i);
+      std::fill(loads.held.begin() + k, loads.held.begin() + k + 3, 1);
+      q0.segment<3>(k) = grips_.at(s.grip[i]).motion * s.grip_x[i];
+      draw(i, 1);
+      draw(i, -1);
+    }
+    if (!s.clamped) {
+      q = q0;
+      rod.setConfiguration(q);
+    }
   }
   if (s.clamped) {
     rod.setConfiguration(q);
@@ -191,7 +311,7 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
   for (int i = 0; i < rod.numVertices(); ++i) {
     x_start[i] = s.q_start.segment<3>(DiscreteElasticRod::vertexDof(i));
     reach = std::max(reach, dt * s.v[i].norm() + rod.length() / rod.numEdges());
-    skip[i] = s.clamped && i < 2;
+    skip[i] = held(s, i);
   }
   ObstacleContactSettings contact_settings = settings_.obstacle_contact;
   contact_settings.stiffness *= material.stretchingStiffness() * rod.numEdges() / rod.length();
@@ -217,6 +337,12 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
     }
   }
   s.clamp = HoldingWrench();
+  for (Vec3& f : s.hold_force) f.setZero();
+  // The reactions on gripped vertices' positions: the force each grip applies there.
+  if (gripped && result.held_reaction.size() == rod.numDofs())
+    for (int i = 0; i < rod.numVertices(); ++i)
+      if (s.grip[i] >= 0)
+        s.hold_force[i] = result.held_reaction.segment<3>(DiscreteElasticRod::vertexDof(i));
   // (None when the solve could not start: a configuration where the energy is not defined.)
   if (s.clamped && result.held_reaction.size() == rod.numDofs()) {
     // The reactions on the held unknowns: forces on x_0 and x_1, the moment about the first
@@ -299,7 +425,7 @@ void HairDynamics::transferFromGrid(double dt) {
       const int p = s.offset + i;
       const Vec3 x_start = particles_.x[p];
       Vec3 v, x;
-      if (s.clamped && i < 2) {  // the clamp's motion
+      if (held(s, i)) {  // the clamp's or the grip's motion
         v = particles_.v[p];
         x = x_start + dt * v;
         particles_.C[p].setZero();
@@ -403,6 +529,7 @@ std::unique_ptr<DynamicsSnapshot> HairDynamics::snapshot() const {
     s->omega.push_back(strand.omega);
     s->poses.push_back(strand.pose);
   }
+  for (const auto& [id, g] : grips_) s->grip_motions[id] = g.motion;
   s->C = particles_.C;
   s->time = time_;
   return s;
@@ -424,6 +551,12 @@ void HairDynamics::restore(const DynamicsSnapshot& snapshot) {
       particles_.x[strand.offset + i] = strand.rod.positions()[i];
       particles_.v[strand.offset + i] = strand.v[i];
     }
+  }
+  // Grips back at their motion then, as the clamps' root frames: a step redone in parts (a
+  // caller's rollback) does not take the whole step's move of the grip in its first part.
+  for (auto& [id, g] : grips_) {
+    const auto it = s->grip_motions.find(id);
+    if (it != s->grip_motions.end()) g.motion = it->second;
   }
   particles_.C = s->C;
   time_ = s->time;

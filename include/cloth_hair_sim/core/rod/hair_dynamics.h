@@ -1,4 +1,5 @@
 #pragma once
+#include <map>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -66,6 +67,12 @@ struct HairSettings {
 // Not yet: the Hencky friction elastoplasticity between strands on the grid (4.3-4.6, 4.10-4.11)
 // and the geometric strand-strand impulses (4.13); strands of this body do not collide with each
 // other (other bodies' fields they meet through the world).
+// One vertex of one strand.
+struct StrandVertex {
+  int strand = 0;
+  int vertex = 0;
+};
+
 class HairDynamics : public Body {
  public:
   // Throws InputError for a bad setting.
@@ -93,6 +100,24 @@ class HairDynamics : public Body {
   // (zero for a free strand): what a scalp or a gripper holding the root feels, reversed. From
   // the implicit update, where the clamp acts; the grid stages do not touch clamped vertices.
   HoldingWrench clampWrench(int s) const;
+  // Grips: a gripper holding a lock. The vertices are held where they are when gripped, then
+  // carried by the grip's rigid motion (setGripFrame, from where they were gripped; identity
+  // until set), which they reach at constant velocity over the next step, held like a clamp in
+  // each strand's implicit solve. Vertices already held (a clamped root's first two, another
+  // grip's) are left out. Returns the grip's id; throws InputError (nothing gripped) for a bad
+  // strand or vertex or when none of them is free.
+  int addGrip(const std::vector<StrandVertex>& vertices);
+  void setGripFrame(int grip, const Eigen::Isometry3d& motion);
+  // The grip's vertices free again, with the velocity they had.
+  void removeGrip(int grip);
+  const std::vector<StrandVertex>& gripVertices(int grip) const;
+  // Force the grip applied to its vertices in the last step and its moment about origin, at
+  // their positions now: the vertices' weight and acceleration and the pull of the rest of the
+  // strands (what the gripper feels, reversed). From the implicit update, as clampWrench.
+  HoldingWrench gripWrench(int grip, const Eigen::Vector3d& origin) const;
+  // The vertices within radius of centre that are not held (by a clamp or a grip).
+  std::vector<StrandVertex> freeVerticesNear(const Eigen::Vector3d& centre, double radius) const;
+
   // An applied force [N] on one vertex, kept until changed.
   void setVertexForce(int s, int vertex, const Eigen::Vector3d& force);
   void setGravity(const Eigen::Vector3d& gravity);
@@ -139,11 +164,21 @@ class HairDynamics : public Body {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     HoldingWrench clamp;                                 // last step's, about the root vertex
     std::vector<mpm::ColliderImpulse> obstacle_impulse;  // this step's, from the implicit solve
-    int offset = 0;                                      // first vertex among the particles
+    // Per vertex: the grip holding it (-1: none), where it was gripped, and the force the hold
+    // (clamp or grip) applied to it in the last step.
+    std::vector<int> grip;
+    std::vector<Eigen::Vector3d> grip_x, hold_force;
+    int offset = 0;  // first vertex among the particles
     // This step: step-start configuration and the clamp's targets.
     Eigen::VectorXd q_start;
   };
+  struct Grip {
+    std::vector<StrandVertex> vertices;
+    Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  };
   void checkStrand(int s) const;
+  const Grip& grip(int id) const;
+  bool held(const Strand& s, int i) const { return (s.clamped && i < 2) || s.grip[i] >= 0; }
   void solveStrandStep(Strand& strand, double dt, StrandNewtonResult& result);
 
   HairSettings settings_;
@@ -157,6 +192,8 @@ class HairDynamics : public Body {
   std::vector<mpm::GridCollider> colliders_;
   std::vector<StrandObstacle> obstacles_;  // the same, for the strands' implicit solves
   std::vector<mpm::ColliderImpulse> collider_impulse_;
+  std::map<int, Grip> grips_;
+  int next_grip_ = 0;
   bool converged_ = true;
   int last_iterations_ = 0;
   double time_ = 0.0;
