@@ -26,13 +26,15 @@ test: build
 	cd $(BUILD) && ROSCONSOLE_STDOUT_LINE_BUFFERED=1 bash -c \
 	  'source devel/setup.bash && ctest --output-on-failure -j$(JOBS)'
 
-# The drape tool's tablecloth, then launch/demo.launch for DEMO_DURATION s under Xvfb: a bag,
-# rviz screenshots (PNG) and a summary (substeps, real-time factor) in $(DEMO_OUT)/ros.
+# The drape tool's tablecloth, then launch/demo.launch for DEMO_DURATION s under Xvfb twice, the
+# garment on the moving mannequin ($(DEMO_OUT)/ros) and hair on its head ($(DEMO_OUT)/hair): a
+# bag, rviz screenshots (PNG) and a summary (substeps, real-time factor) in each.
 DEMO_DURATION ?= 20
 demo: build
 	$(BIN)/drape scenes/tablecloth_fem.yaml --out $(DEMO_OUT)/tablecloth
 	@echo "demo: draped mesh, report.json and pictures are in $(DEMO_OUT)/tablecloth"
-	DURATION=$(DEMO_DURATION) bash scripts/demo.sh $(DEMO_OUT)/ros $(BUILD)
+	HAIR=0 DURATION=$(DEMO_DURATION) bash scripts/demo.sh $(DEMO_OUT)/ros $(BUILD)
+	HAIR=1 DURATION=$(DEMO_DURATION) bash scripts/demo.sh $(DEMO_OUT)/hair $(BUILD)
 
 format:
 	find include src test -name '*.h' -o -name '*.cpp' | xargs clang-format -i

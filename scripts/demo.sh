@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Runs launch/demo.launch for DURATION seconds under a virtual X server (Xvfb): the mannequin
-# moves, hair grows on the back of its head (HAIR=1, the default; HAIR_GUIDES guide strands) or a
-# garment drapes over it (HAIR=0: GARMENT, sheet by default; GARMENT with hair: both, slower than
-# real time), rosbag records markers, tf, joint states and status, and rviz screenshots are saved
+# moves, a garment drapes over it (HAIR=0, the default: GARMENT, sheet by default) or hair grows
+# on the back of its head (HAIR=1: HAIR_GUIDES guide strands, no garment unless GARMENT names
+# one; both together are slower than real time), rosbag records markers, tf, joint states and status, and rviz screenshots are saved
 # as PNG. Prints a summary.
 # Usage: scripts/demo.sh [out_dir] [build_dir]
 set -euo pipefail
@@ -10,7 +10,7 @@ OUT="$(realpath -m "${1:-demo_output}")"
 BUILD="$(realpath "${2:-build}")"
 DURATION="${DURATION:-20}"
 MOTION="${MOTION:-arms_raise}"
-HAIR="${HAIR:-1}"
+HAIR="${HAIR:-0}"
 HAIR_GUIDES="${HAIR_GUIDES:-30}"
 if [ "$HAIR" = 1 ]; then
   GARMENT="${GARMENT:-none}"
