@@ -1,6 +1,7 @@
 #include "cloth_hair_sim/core/rod/strand_collisions.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -123,7 +124,7 @@ std::optional<SegmentContact> segmentCollision(const std::array<Vec3, 4>& x,
       double vlo = volumeAt(x, d, lo);
       const double vhi = volumeAt(x, d, hi);
       if ((vlo < 0.0) == (vhi < 0.0) && vlo != 0.0 && vhi != 0.0) continue;
-      for (int it = 0; it < 60 && hi - lo > 1e-16; ++it) {
+      for (int it = 0; it < 60 && hi - lo > 1e-13; ++it) {
         const double mid = 0.5 * (lo + hi), vm = volumeAt(x, d, mid);
         if ((vm < 0.0) == (vlo < 0.0)) {
           lo = mid;
@@ -139,8 +140,8 @@ std::optional<SegmentContact> segmentCollision(const std::array<Vec3, 4>& x,
     std::sort(times.begin(), times.end());
   }
   // A contact counts when the pair does not end the step clearly on the side of n it started
-  // on (n across both edges there, oriented by the start): a crossing flips the side, a pair
-  // pushed apart by an impulse ends 2 margins out and is not found again.
+  // on (n oriented by the start): a crossing flips the side, a pair pushed apart by an impulse
+  // ends 2 margins out and is not found again.
   for (double t : times) {
     std::array<Vec3, 4> y;
     for (int k = 0; k < 4; ++k) y[k] = x[k] + t * d[k];
@@ -154,10 +155,15 @@ std::optional<SegmentContact> segmentCollision(const std::array<Vec3, 4>& x,
     std::array<Vec3, 4> x1;
     for (int k = 0; k < 4; ++k) x1[k] = x[k] + d[k];
     const Vec3 sep1 = at(x1);
-    Vec3 n = ea.cross(eb);
-    if (n.norm() <= 1e-6 * ea.norm() * eb.norm()) {  // parallel: along the start's separation
-      const double ee = ea.squaredNorm();
-      n = ee > 0.0 ? Vec3(sep0 - sep0.dot(ea) / ee * ea) : sep0;
+    // The normal: along the closest points when apart (an end near the other segment), else
+    // across both edges (they meet), else (parallel and meeting) along the start's separation.
+    Vec3 n = c.d;
+    if (!(c.d.norm() > 1e-3 * margin)) {
+      n = ea.cross(eb);
+      if (n.norm() <= 1e-6 * ea.norm() * eb.norm()) {
+        const double ee = ea.squaredNorm();
+        n = ee > 0.0 ? Vec3(sep0 - sep0.dot(ea) / ee * ea) : sep0;
+      }
     }
     if (!(n.norm() > 0.0)) n = (ea.squaredNorm() > 0.0 ? ea : Vec3(Vec3::UnitX())).unitOrthogonal();
     n.normalize();
@@ -249,29 +255,43 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
             [](const Pair& p, const Pair& q) { return std::tie(p.a, p.b) < std::tie(q.a, q.b); });
 }
 
-void StrandCollisions::applyImpulses(std::vector<Impulse>& impulses, std::vector<Vec3>& v,
+void StrandCollisions::applyImpulses(const std::vector<Impulse>& impulses, std::vector<Vec3>& v,
                                      const std::vector<double>& inverse_mass) {
-  std::fill(count_.begin(), count_.end(), 0);
-  for (const Impulse& im : impulses)
-    for (int k = 0; k < 4; ++k)
-      if (im.weight[k] != 0.0 && inverse_mass[im.vertex[k]] > 0.0) ++count_[im.vertex[k]];
-  // Jacobi: every impulse from the same velocities, each divided by the largest number of
-  // impulses on one of its vertices (Bridson's averaging, per pair so that its two sides stay
-  // equal and opposite).
-  std::vector<std::pair<int, Vec3>> dv;
-  dv.reserve(4 * impulses.size());
+  const bool jacobi = settings_.jacobi;
+  if (jacobi) {
+    std::fill(count_.begin(), count_.end(), 0);
+    for (const Impulse& im : impulses)
+      for (int k = 0; k < 4; ++k)
+        if (im.weight[k] != 0.0 && inverse_mass[im.vertex[k]] > 0.0) ++count_[im.vertex[k]];
+  }
+  std::vector<std::pair<int, Vec3>> dv;  // Jacobi's changes, applied after all are computed
   for (const Impulse& im : impulses) {
     double k_eff = 0.0;
     int c = 1;
+    Vec3 vrel = Vec3::Zero();
     for (int k = 0; k < 4; ++k) {
       k_eff += im.weight[k] * im.weight[k] * inverse_mass[im.vertex[k]];
-      c = std::max(c, count_[im.vertex[k]]);
+      if (jacobi) c = std::max(c, count_[im.vertex[k]]);
+      vrel += im.weight[k] * v[im.vertex[k]];
     }
-    if (!(k_eff > 0.0)) continue;
-    // P on b's side (its weights positive): it changes the relative velocity by P k_eff / c.
-    const Vec3 P = (im.normal_change * im.normal - im.friction_change * im.tangent) / (k_eff * c);
-    for (int k = 0; k < 4; ++k)
-      dv.emplace_back(im.vertex[k], (inverse_mass[im.vertex[k]] * im.weight[k]) * P);
+    const double vn = vrel.dot(im.normal);
+    const double change = std::max(im.target - vn, im.min_change);
+    if (!(k_eff > 0.0) || !(change > 0.0)) continue;
+    // Coulomb: the slip reduced by at most mu times the normal change.
+    const Vec3 vt = vrel - vn * im.normal;
+    const double slip = vt.norm();
+    Vec3 dvrel = change * im.normal;
+    if (slip > 0.0) dvrel -= std::min(slip, settings_.friction * change) / slip * vt;
+    // P on b's side (its weights positive) changes the relative velocity by P k_eff.
+    const Vec3 P = dvrel / (k_eff * c);
+    for (int k = 0; k < 4; ++k) {
+      const int i = im.vertex[k];
+      const Vec3 d = (inverse_mass[i] * im.weight[k]) * P;
+      if (jacobi)
+        dv.emplace_back(i, d);
+      else
+        v[i] += d;
+    }
   }
   for (const auto& [i, change] : dv) v[i] += change;
 }
@@ -280,7 +300,6 @@ std::vector<StrandCollisions::Impulse> StrandCollisions::collisionImpulses(
     const std::vector<Vec3>& x, const std::vector<Vec3>& v, const std::vector<double>& inverse_mass,
     double thickness, double dt) const {
   const double margin = settings_.collision_margin * thickness;
-  const double mu = settings_.friction;
   tbb::enumerable_thread_specific<std::vector<Impulse>> found;
   tbb::parallel_for(std::size_t(0), pairs_.size(), [&](std::size_t k) {
     const Pair& pr = pairs_[k];
@@ -292,28 +311,18 @@ std::vector<StrandCollisions::Impulse> StrandCollisions::collisionImpulses(
       d4[j] = dt * v[id[j]];
       moving = moving || inverse_mass[id[j]] > 0.0;
     }
-    if (!moving) return;
+    // Unchanged since a pass found it apart: still apart.
+    if (!moving || !(dirty_[id[0]] || dirty_[id[1]] || dirty_[id[2]] || dirty_[id[3]])) return;
     const std::optional<SegmentContact> hit = segmentCollision(x4, d4, margin);
     if (!hit) return;
     const double s = hit->s, u = hit->u;
     Impulse im;
     im.vertex = id;
     im.weight = {-(1.0 - s), -s, 1.0 - u, u};
-    Vec3 vrel = Vec3::Zero();
-    for (int j = 0; j < 4; ++j) vrel += im.weight[j] * v[id[j]];
-    const Vec3 n = hit->normal;
-    const double d0n = hit->start_gap;
     // Inelastic: b's contact point ends the step 2 margins in front of a's along n.
-    const double vn = vrel.dot(n);
-    const double target = (2.0 * margin - d0n) / dt;
-    im.normal = n;
-    im.normal_change = std::max(target - vn, 2.0 * margin / dt);
-    const Vec3 vt = vrel - vn * n;
-    const double slip = vt.norm();
-    if (slip > 0.0) {
-      im.tangent = vt / slip;
-      im.friction_change = std::min(slip, mu * im.normal_change);
-    }
+    im.normal = hit->normal;
+    im.target = (2.0 * margin - hit->start_gap) / dt;
+    im.min_change = 2.0 * margin / dt;
     found.local().push_back(im);
   });
   std::vector<Impulse> out;
@@ -328,6 +337,16 @@ StrandCollisionStats StrandCollisions::apply(const std::vector<Vec3>& x, std::ve
                                              const std::vector<double>& inverse_mass,
                                              const std::vector<int>& offsets, double thickness,
                                              double dt) {
+  const auto start = std::chrono::steady_clock::now();
+  StrandCollisionStats stats = resolve(x, v, inverse_mass, offsets, thickness, dt);
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::vector<Vec3>& v,
+                                               const std::vector<double>& inverse_mass,
+                                               const std::vector<int>& offsets, double thickness,
+                                               double dt) {
   const int nv = static_cast<int>(x.size());
   if (static_cast<int>(v.size()) != nv || static_cast<int>(inverse_mass.size()) != nv)
     throw InputError("strand collisions: " + std::to_string(nv) + " positions, " +
@@ -355,8 +374,8 @@ StrandCollisionStats StrandCollisions::apply(const std::vector<Vec3>& x, std::ve
   // Proximity (Bridson 7.1): pairs closer than the thickness at x^n.
   candidates(x, v, thickness, dt);
   stats.candidate_pairs = static_cast<int>(pairs_.size());
-  {
-    const double mu = settings_.friction, repulsion = settings_.repulsion;
+  const double repulsion = settings_.repulsion;
+  for (int pass = 0; pass < settings_.max_iterations; ++pass) {
     tbb::enumerable_thread_specific<std::vector<Impulse>> found;
     tbb::parallel_for(std::size_t(0), pairs_.size(), [&](std::size_t k) {
       const Pair& pr = pairs_[k];
@@ -378,30 +397,31 @@ StrandCollisionStats StrandCollisions::apply(const std::vector<Vec3>& x, std::ve
       }
       Vec3 vrel = Vec3::Zero();
       for (int j = 0; j < 4; ++j) vrel += im.weight[j] * v[id[j]];
-      const double vn = vrel.dot(n);
-      const double target = repulsion * (thickness - dist) / dt;
-      if (vn >= target) return;
       im.normal = n;
-      im.normal_change = target - vn;
-      const Vec3 vt = vrel - vn * n;
-      const double slip = vt.norm();
-      if (slip > 0.0) {
-        im.tangent = vt / slip;
-        im.friction_change = std::min(slip, mu * im.normal_change);
-      }
+      im.target = repulsion * (thickness - dist) / dt;
+      // (A pass's own rounding leaves pairs a hair below their target: not another pass.)
+      if (vrel.dot(n) >= im.target - 1e-9 * std::abs(im.target)) return;
       found.local().push_back(im);
     });
     std::vector<Impulse> impulses;
     for (const std::vector<Impulse>& f : found) impulses.insert(impulses.end(), f.begin(), f.end());
+    if (impulses.empty()) break;
     std::sort(impulses.begin(), impulses.end(), [](const Impulse& p, const Impulse& q) {
       return std::tie(p.vertex[0], p.vertex[2]) < std::tie(q.vertex[0], q.vertex[2]);
     });
-    stats.proximity_impulses = static_cast<int>(impulses.size());
+    stats.proximity_impulses += static_cast<int>(impulses.size());
     applyImpulses(impulses, v, inverse_mass);
   }
 
-  // Collisions over the step's paths, Jacobi passes; the broad phase follows the new velocities.
+  // Collisions over the step's paths in passes; the broad phase follows the new velocities,
+  // and a pass tests only pairs with a vertex the previous one changed.
   const double margin = settings_.collision_margin * thickness;
+  dirty_.assign(nv, 1);
+  auto mark = [&](const std::vector<Impulse>& impulses) {
+    std::fill(dirty_.begin(), dirty_.end(), 0);
+    for (const Impulse& im : impulses)
+      for (int i : im.vertex) dirty_[i] = 1;
+  };
   for (int pass = 0; pass < settings_.max_iterations; ++pass) {
     candidates(x, v, margin, dt);
     std::vector<Impulse> impulses = collisionImpulses(x, v, inverse_mass, thickness, dt);
@@ -409,6 +429,7 @@ StrandCollisionStats StrandCollisions::apply(const std::vector<Vec3>& x, std::ve
     ++stats.collision_passes;
     stats.collision_impulses += static_cast<int>(impulses.size());
     applyImpulses(impulses, v, inverse_mass);
+    mark(impulses);
   }
 
   // Fail-safe: rigid impact zones, merged until no pair collides.
@@ -423,7 +444,11 @@ StrandCollisionStats StrandCollisions::apply(const std::vector<Vec3>& x, std::ve
     // A pair inside one zone moves affinely and does not cross (it may stay within the margin).
     // One left inside a zone with clamps moving apart is not resolved.
     bool outside = false, stuck = false;
-    for (const Impulse& im : collisionImpulses(x, v, inverse_mass, thickness, dt)) {
+    const std::vector<Impulse> hits = collisionImpulses(x, v, inverse_mass, thickness, dt);
+    std::fill(dirty_.begin(), dirty_.end(), 0);
+    for (const Impulse& im : hits)  // their zones' velocities change below; still colliding
+      for (int i : im.vertex) dirty_[i] = 1;
+    for (const Impulse& im : hits) {
       int r = root(im.vertex[0]);
       bool one = true, translating = true;
       for (int k = 1; k < 4; ++k) {
@@ -455,6 +480,7 @@ StrandCollisionStats StrandCollisions::apply(const std::vector<Vec3>& x, std::ve
       while (e < members.size() && members[e].first == members[b].first) ++e;
       if (e - b > 1) {
         stats.zone_vertices += static_cast<int>(e - b);
+        for (std::size_t k = b; k < e; ++k) dirty_[members[k].second] = 1;
         Vec3 held_v = Vec3::Zero();
         int held = 0;
         double mass = 0.0;

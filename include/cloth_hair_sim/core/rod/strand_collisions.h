@@ -15,13 +15,13 @@ namespace chs::rod {
 //                low corner of its boxes' overlap, so once (Han: pads extended by delta);
 //   proximity    pairs closer than the thickness at the step's start and approaching get an
 //                inelastic impulse along the closest points' normal that also undoes a share of
-//                the overlap, and Coulomb friction (Bridson section 7.1);
+//                the overlap, and Coulomb friction (Bridson section 7.1), in passes until none
+//                is needed or max_iterations;
 //   collisions   continuous detection over the straight paths x^n + t dt v (the coplanarity
 //                cubic of the four points, then the distance at its roots and extrema), an
-//                inelastic impulse with friction for each colliding pair; Jacobi passes, each
-//                pair's impulse divided by the largest number of pairs sharing one of its
-//                vertices (Bridson's averaging, done per pair so momentum is kept), repeated
-//                until no pair collides or max_iterations;
+//                inelastic impulse with friction for each colliding pair; passes (pairs found
+//                in parallel, impulses Gauss-Seidel or Jacobi with Bridson's averaging, see
+//                `jacobi`) repeated until no pair collides or max_iterations;
 //   fail-safe    rigid impact zones (Provot 1997, Bridson section 7.4): the vertices of pairs
 //                still colliding are merged into zones that take the rigid velocity of their
 //                linear and angular momentum (an affine map, so nothing inside a zone crosses),
@@ -40,18 +40,24 @@ struct StrandCollisionSettings {
   // A pair whose centrelines come within this share of the thickness at a root of the
   // coplanarity cubic collides (a margin: the audit counts only actual crossings).
   double collision_margin = 0.05;
-  int max_iterations = 20;  // Jacobi passes of collision impulses before impact zones
+  int max_iterations = 20;  // passes of proximity, then of collision impulses before zones
+  // How a pass applies its pairs' impulses: Jacobi with Bridson's averaging as Han (each from
+  // the same velocities, divided by the most pairs on one of its vertices), else Gauss-Seidel
+  // (in turn, each from the velocities the previous left; both keep momentum). In a stack
+  // Jacobi's averaging gives each pair a share of its impulse per pass and converges slowly.
+  bool jacobi = false;
 };
 
 struct StrandCollisionStats {
   int segments = 0;
   int candidate_pairs = 0;     // broad phase of the first pass
-  int proximity_impulses = 0;  // pairs pushed apart by the proximity pass
+  int proximity_impulses = 0;  // over the proximity passes
   int collision_passes = 0;    // Jacobi passes that found colliding pairs
   int collision_impulses = 0;  // over those passes
   int zone_passes = 0;         // impact-zone passes
   int zone_vertices = 0;       // vertices in impact zones at the end
   bool resolved = true;        // no pair left colliding
+  double seconds = 0.0;        // wall time of the stage
 };
 
 // When two moving segments collide: segment a = (x[0], x[1]) and b = (x[2], x[3]) at the step's
@@ -88,6 +94,10 @@ class StrandCollisions {
                              const std::vector<int>& offsets, double thickness, double dt);
 
  private:
+  StrandCollisionStats resolve(const std::vector<Eigen::Vector3d>& x,
+                               std::vector<Eigen::Vector3d>& v,
+                               const std::vector<double>& inverse_mass,
+                               const std::vector<int>& offsets, double thickness, double dt);
   struct Pair {
     int a = 0, b = 0;  // first vertices of the two segments
   };
@@ -95,14 +105,15 @@ class StrandCollisions {
     std::array<int, 4> vertex{};
     std::array<double, 4> weight{};  // +-barycentric: a's side negative, b's positive
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-    double normal_change = 0.0;  // wanted change of the normal relative velocity (> 0)
-    double friction_change = 0.0;
-    Eigen::Vector3d tangent = Eigen::Vector3d::Zero();  // unit, of the relative slip
+    double target = 0.0;      // wanted normal relative velocity (b's from a's) [m/s]
+    double min_change = 0.0;  // change of it at least (a collision's push)
   };
   void candidates(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
                   double grow, double dt);
-  // Applies the impulses Jacobi-wise (each divided by its vertices' largest count).
-  void applyImpulses(std::vector<Impulse>& impulses, std::vector<Eigen::Vector3d>& v,
+  // Applies the impulses, with Coulomb friction: Jacobi-wise (each from the same velocities,
+  // divided by its vertices' largest count) or Gauss-Seidel (in turn, each from the velocities
+  // its predecessors left).
+  void applyImpulses(const std::vector<Impulse>& impulses, std::vector<Eigen::Vector3d>& v,
                      const std::vector<double>& inverse_mass);
   std::vector<Impulse> collisionImpulses(const std::vector<Eigen::Vector3d>& x,
                                          const std::vector<Eigen::Vector3d>& v,
@@ -113,6 +124,7 @@ class StrandCollisions {
   std::vector<int> segments_;  // first vertex of each segment
   std::vector<Pair> pairs_;    // the current broad phase's candidates
   std::vector<int> count_;     // impulses per vertex in a pass
+  std::vector<char> dirty_;    // vertices whose velocity the last pass changed
 };
 
 }  // namespace chs::rod
