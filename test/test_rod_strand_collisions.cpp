@@ -188,7 +188,7 @@ struct BundleRun {
   double upper_height = 0.0;  // mean height of the falling bundle at the end [m]
   double lower_height = 0.0;  // of the clamped bundle under it
   double seconds = 0.0, seconds_collisions = 0.0;  // the steps', of which the collisions
-  int max_zone_vertices = 0;
+  int max_zone_vertices = 0, zone_steps = 0, passes = 0;
   bool resolved = true;
 };
 
@@ -200,6 +200,7 @@ BundleRun fallingBundles(bool collide, bool jacobi = false) {
   hs.grid_spacing = 0.01;
   hs.strand_collisions.enabled = collide;
   hs.strand_collisions.jacobi = jacobi;
+
   auto hair = std::make_shared<HairDynamics>(hs);
   world.add("hair", hair);
   const int n = 4, segments = 16;
@@ -234,6 +235,8 @@ BundleRun fallingBundles(bool collide, bool jacobi = false) {
     run.seconds_collisions += hair->lastStrandCollisions().seconds;
     const std::vector<Vec3> x1 = positions();
     run.crossings += countSegmentCrossings(x0, x1, offsets).count;
+    run.zone_steps += hair->lastStrandCollisions().zone_passes > 0;
+    run.passes += hair->lastStrandCollisions().collision_passes;
     run.max_zone_vertices =
         std::max(run.max_zone_vertices, hair->lastStrandCollisions().zone_vertices);
     run.resolved = run.resolved && hair->lastStrandCollisions().resolved;
@@ -266,16 +269,23 @@ BundleRun fallingBundles(bool collide, bool jacobi = false) {
 TEST(StrandCollisions, FallingBundlesNoMissedCrossings) {
   const BundleRun without = fallingBundles(false);
   const BundleRun with = fallingBundles(true);
+  const BundleRun jacobi = fallingBundles(true, true);
   std::printf(
       "falling bundles (2 x 16 strands of 16 segments, 72 steps of 1/240 s): missed crossings "
       "%zu without the impulses, %zu with (Han: 543 K for McAdams et al., 120 for his); falling "
       "bundle's mean height %.2f mm without, %.2f mm with (clamped bundle under it %.2f / %.2f "
       "mm); "
-      "impact zones up to %d vertices; steps %.2f s / %.2f s of wall time, collision stage %.2f "
+      "%d collision passes, impact zones in %d steps, up to %d vertices; steps %.2f s / %.2f s of "
+      "wall time, collision stage %.2f "
       "s\n",
       without.crossings, with.crossings, 1e3 * without.upper_height, 1e3 * with.upper_height,
-      1e3 * without.lower_height, 1e3 * with.lower_height, with.max_zone_vertices, without.seconds,
-      with.seconds, with.seconds_collisions);
+      1e3 * without.lower_height, 1e3 * with.lower_height, with.passes, with.zone_steps,
+      with.max_zone_vertices, without.seconds, with.seconds, with.seconds_collisions);
+  std::printf(
+      "same with Jacobi passes (Bridson's averaging): %zu crossings, %d collision passes, impact "
+      "zones in %d steps, collision stage %.2f s\n",
+      jacobi.crossings, jacobi.passes, jacobi.zone_steps, jacobi.seconds_collisions);
+  EXPECT_EQ(jacobi.crossings, 0u);
   EXPECT_GT(without.crossings, 100u);
   EXPECT_EQ(with.crossings, 0u);
   EXPECT_TRUE(with.resolved);

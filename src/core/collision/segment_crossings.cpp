@@ -64,7 +64,6 @@ bool commonPoint(const LVec& a0, const LVec& a1, const LVec& b0, const LVec& b1,
          std::min(std::max(sa0, sa1), std::max(sb0, sb1)) + tol_len;
 }
 
-
 // The segments' distance at the start, each pair of their points moving apart or together by
 // at most the largest relative move of two ends (a convex combination of them).
 double startDistance(const Points& x0) {

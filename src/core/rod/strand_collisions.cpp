@@ -184,6 +184,8 @@ StrandCollisions::StrandCollisions(const StrandCollisionSettings& s) : settings_
   if (!(s.collision_margin > 0.0 && s.collision_margin < 0.5))
     throw InputError("strand collisions: collision_margin must lie in (0, 0.5)");
   if (s.max_iterations < 0) throw InputError("strand collisions: max_iterations must be >= 0");
+  if (!(s.collision_gap >= 0.0 && s.collision_gap <= 1.0))
+    throw InputError("strand collisions: collision_gap must lie in [0, 1]");
 }
 
 // Broad phase: each segment's box over its step (x and x + dt v at both ends), grown by
@@ -321,7 +323,8 @@ std::vector<StrandCollisions::Impulse> StrandCollisions::collisionImpulses(
     im.weight = {-(1.0 - s), -s, 1.0 - u, u};
     // Inelastic: b's contact point ends the step 2 margins in front of a's along n.
     im.normal = hit->normal;
-    im.target = (2.0 * margin - hit->start_gap) / dt;
+    const double gap = std::max(2.0 * margin, settings_.collision_gap * thickness);
+    im.target = (gap - hit->start_gap) / dt;
     im.min_change = 2.0 * margin / dt;
     found.local().push_back(im);
   });
@@ -368,6 +371,10 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
   for (std::size_t k = 0; k + 1 < offsets.size(); ++k)
     for (int i = offsets[k]; i + 1 < offsets[k + 1]; ++i) segments_.push_back(i);
   stats.segments = static_cast<int>(segments_.size());
+  strand_of_.resize(nv);
+  for (std::size_t k = 0; k + 1 < offsets.size(); ++k)
+    std::fill(strand_of_.begin() + offsets[k], strand_of_.begin() + offsets[k + 1],
+              static_cast<int>(k));
   if (segments_.empty()) return stats;
   count_.assign(nv, 0);
 
@@ -461,6 +468,16 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
         }
       }
       outside = outside || !one;
+      if (settings_.whole_strand_zones && !one)
+        // The strands of the pair join whole: a zone's rigid motion would otherwise stretch
+        // the segments leaving it, which the next implicit step turns into violent velocities.
+        for (int k = 0; k < 4; ++k) {
+          const int st = strand_of_[im.vertex[k]];
+          for (int i = offsets[st]; i < offsets[st + 1]; ++i) {
+            const int a = root(i), b = root(r);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+          }
+        }
       // Inside a zone with clamps, only a common translation is sure not to cross.
       bool held = false;
       for (int k = 0; k < 4; ++k) held = held || inverse_mass[im.vertex[k]] == 0.0;

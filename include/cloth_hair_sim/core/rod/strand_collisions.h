@@ -22,11 +22,13 @@ namespace chs::rod {
 //                inelastic impulse with friction for each colliding pair; passes (pairs found
 //                in parallel, impulses Gauss-Seidel or Jacobi with Bridson's averaging, see
 //                `jacobi`) repeated until no pair collides or max_iterations;
-//   fail-safe    rigid impact zones (Provot 1997, Bridson section 7.4): the vertices of pairs
-//                still colliding are merged into zones that take the rigid velocity of their
-//                linear and angular momentum (an affine map, so nothing inside a zone crosses),
-//                merged again while zones collide. A zone holding a clamped vertex translates
-//                with the mean velocity of its clamped vertices (exact when they move alike).
+//   fail-safe    rigid impact zones (Provot 1997, Bridson section 7.4): the strands (or only
+//                the vertices, whole_strand_zones) of pairs still colliding are merged into
+//                zones that take the rigid velocity of their linear and angular momentum (an
+//                affine map, so nothing inside a zone crosses), merged again while zones
+//                collide. A zone holding a clamped vertex translates with the mean velocity of
+//                its clamped vertices (exact when they move alike: a zone on a still scalp
+//                stops for the step).
 // Impulses are distributed to the four vertices by the closest points' barycentric weights and
 // inverse masses; a vertex of inverse mass 0 (a clamp) does not move. Every impulse is an equal
 // and opposite pair, so linear momentum is kept (zones also keep angular momentum).
@@ -39,13 +41,20 @@ struct StrandCollisionSettings {
   double repulsion = 0.1;
   // A pair whose centrelines come within this share of the thickness at a root of the
   // coplanarity cubic collides (a margin: the audit counts only actual crossings).
-  double collision_margin = 0.05;
-  int max_iterations = 20;  // passes of proximity, then of collision impulses before zones
+  double collision_margin = 0.01;
+  // A collision's impulse leaves the contact points this share of the thickness apart along the
+  // normal at the step's end (at least 2 margins).
+  double collision_gap = 0.5;
+  // Passes of proximity, then of collision impulses before impact zones (Han: five).
+  int max_iterations = 5;
   // How a pass applies its pairs' impulses: Jacobi with Bridson's averaging as Han (each from
   // the same velocities, divided by the most pairs on one of its vertices), else Gauss-Seidel
   // (in turn, each from the velocities the previous left; both keep momentum). In a stack
   // Jacobi's averaging gives each pair a share of its impulse per pass and converges slowly.
   bool jacobi = false;
+  // Impact zones take the whole strands of their colliding pairs (else only the pairs'
+  // vertices, as Bridson's cloth).
+  bool whole_strand_zones = true;
 };
 
 struct StrandCollisionStats {
@@ -121,10 +130,11 @@ class StrandCollisions {
                                          double dt) const;
 
   StrandCollisionSettings settings_;
-  std::vector<int> segments_;  // first vertex of each segment
-  std::vector<Pair> pairs_;    // the current broad phase's candidates
-  std::vector<int> count_;     // impulses per vertex in a pass
-  std::vector<char> dirty_;    // vertices whose velocity the last pass changed
+  std::vector<int> segments_;   // first vertex of each segment
+  std::vector<Pair> pairs_;     // the current broad phase's candidates
+  std::vector<int> count_;      // impulses per vertex in a pass
+  std::vector<int> strand_of_;  // each vertex's strand
+  std::vector<char> dirty_;     // vertices whose velocity the last pass changed
 };
 
 }  // namespace chs::rod
