@@ -140,8 +140,10 @@ std::optional<SegmentContact> segmentCollision(const std::array<Vec3, 4>& x,
     std::sort(times.begin(), times.end());
   }
   // A contact counts when the pair does not end the step clearly on the side of n it started
-  // on (n oriented by the start): a crossing flips the side, a pair pushed apart by an impulse
-  // ends 2 margins out and is not found again.
+  // on (n oriented by the start): a crossing flips the side (the contact points' separation
+  // along a fixed n is linear in t and vanishes at the root), a pair pushed apart by an impulse
+  // ends its gap out and is not found again. Every candidate is tried, so a near approach
+  // before a root does not hide the root.
   for (double t : times) {
     std::array<Vec3, 4> y;
     for (int k = 0; k < 4; ++k) y[k] = x[k] + t * d[k];
