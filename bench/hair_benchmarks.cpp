@@ -7,7 +7,14 @@
 // vertices' Coulomb impulses) and give segment-frames per core-second, Han's figure for his
 // hair ball being about 790 (1.92 M segments at 122 s per frame on 20 threads).
 //
-// Arguments: {strands, TBB threads}.
+// Arguments: {strands, TBB threads}. ms_collisions: the strand-strand impulses (Han 4.13,
+// rod/strand_collisions.h), part of "from grid".
+//
+// fallingBundles: Han's Fig. 4.7 scaled down (as test_rod_strand_collisions): a bundle of n x n
+// free 4 cm strands (16 segments, 1 mm apart) falling from 8 mm onto a crossing bundle of n x n
+// clamped ones, 72 steps of 1/240 s per iteration; the cost per step of the collision stage and
+// the missed crossings (the audit, core/collision/segment_crossings.h, outside the timing).
+// Arguments: {n, TBB threads}.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -17,6 +24,7 @@
 #include <tbb/global_control.h>
 
 #include "bench_machine.h"
+#include "cloth_hair_sim/core/collision/segment_crossings.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/rod/hair_dynamics.h"
 #include "cloth_hair_sim/core/rod/strand_shapes.h"
@@ -53,7 +61,7 @@ void hairFrame(benchmark::State& state) {
   world.setColliders({std::make_shared<chs::SphereSurface>(Vec3::Zero(), kHead)});
   const double dt = 1.0 / 120.0;
   for (int i = 0; i < 30; ++i) world.step(dt);  // the hair falls onto the head
-  double t_solve = 0.0, t_to = 0.0, t_grid = 0.0, t_from = 0.0;
+  double t_solve = 0.0, t_to = 0.0, t_grid = 0.0, t_from = 0.0, t_collide = 0.0;
   int frames = 0, newton = 0;
   for (auto _ : state) {
     for (int sub = 0; sub < 2; ++sub) {
@@ -71,6 +79,7 @@ void hairFrame(benchmark::State& state) {
       hair->transferFromGrid(dt);
       hair->endStep(dt);
       t_from += chs::bench::secondsSince(t);
+      t_collide += hair->lastStrandCollisions().seconds;
       newton = std::max(newton, hair->lastNewtonIterations());
     }
     ++frames;
@@ -81,6 +90,7 @@ void hairFrame(benchmark::State& state) {
   state.counters["ms_to_grid"] = 1e3 * t_to / frames;
   state.counters["ms_grid"] = 1e3 * t_grid / frames;
   state.counters["ms_from_grid"] = 1e3 * t_from / frames;
+  state.counters["ms_collisions"] = 1e3 * t_collide / frames;
   state.counters["seg_frames_per_core_s"] =
       static_cast<double>(strands) * kSegments * frames / (wall * threads);
   state.counters["max_newton"] = newton;
@@ -90,6 +100,71 @@ BENCHMARK(hairFrame)
     ->Args({100, 2})
     ->Args({1000, 1})
     ->Args({1000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void fallingBundles(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
+  const int segments = 16, steps = 72;
+  const double gap = 1e-3, length = 0.04, dt = 1.0 / 240.0;
+  double t_step = 0.0, t_collide = 0.0;
+  std::size_t crossings = 0;
+  int zone_steps = 0, runs = 0;
+  for (auto _ : state) {
+    chs::WorldSettings ws;
+    ws.grid_spacing = 0.01;
+    chs::World world(ws);
+    chs::rod::HairSettings hs;
+    hs.grid_spacing = 0.01;
+    auto hair = std::make_shared<chs::rod::HairDynamics>(hs);
+    world.add("hair", hair);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        const double p = (a - 0.5 * (n - 1)) * gap, q = (b - 0.5 * (n - 1)) * gap;
+        hair->addStrand(
+            chs::rod::straightStrand(Vec3(-0.5 * length, p, q), Vec3::UnitX(), length, segments),
+            chs::rod::humanHair(), true);
+        hair->addStrand(
+            chs::rod::straightStrand(Vec3(0.25 * length + p, -0.5 * length, 0.008 + q + 0.5 * gap),
+                                     Vec3::UnitY(), length, segments),
+            chs::rod::humanHair(), false);
+      }
+    std::vector<int> offsets{0};
+    for (int s = 0; s < hair->numStrands(); ++s)
+      offsets.push_back(offsets.back() + hair->strand(s).numVertices());
+    auto positions = [&] {
+      std::vector<Vec3> x;
+      for (int s = 0; s < hair->numStrands(); ++s)
+        x.insert(x.end(), hair->strand(s).positions().begin(), hair->strand(s).positions().end());
+      return x;
+    };
+    std::vector<Vec3> x0 = positions();
+    for (int step = 0; step < steps; ++step) {
+      const auto t = chs::bench::Clock::now();
+      world.step(dt);
+      t_step += chs::bench::secondsSince(t);
+      t_collide += hair->lastStrandCollisions().seconds;
+      zone_steps += hair->lastStrandCollisions().zone_passes > 0;
+      state.PauseTiming();
+      const std::vector<Vec3> x1 = positions();
+      crossings += chs::countSegmentCrossings(x0, x1, offsets).count;
+      x0 = x1;
+      state.ResumeTiming();
+    }
+    ++runs;
+  }
+  state.counters["ms_step"] = 1e3 * t_step / (runs * steps);
+  state.counters["ms_collisions_step"] = 1e3 * t_collide / (runs * steps);
+  state.counters["collision_share"] = t_collide / t_step;
+  state.counters["zone_steps"] = static_cast<double>(zone_steps) / runs;
+  state.counters["missed_crossings"] = static_cast<double>(crossings) / runs;
+}
+BENCHMARK(fallingBundles)
+    ->Args({4, 1})
+    ->Args({4, 2})
+    ->Args({6, 2})
+    ->Iterations(1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -29,7 +29,13 @@ struct HairSnapshot : DynamicsSnapshot {
 }  // namespace
 
 HairDynamics::HairDynamics(const HairSettings& settings)
-    : settings_(settings), grid_(settings.grid_spacing) {
+    : settings_(settings), grid_(settings.grid_spacing), collisions_([&] {
+        try {
+          return StrandCollisions(settings.strand_collisions);
+        } catch (const InputError& e) {
+          throw InputError(std::string("hair: ") + e.what());
+        }
+      }()) {
   if (!(settings.grid_spacing > 0.0 && std::isfinite(settings.grid_spacing)))
     throw InputError("hair: grid_spacing must be positive and finite");
   if (settings.kernel_degree != 2 && settings.kernel_degree != 3)
@@ -418,12 +424,12 @@ void HairDynamics::transferFromGrid(double dt) {
   scratch_ = particles_;
   mpm::gridToParticle(grid_, scratch_, settings_.kernel_degree, 0.0, dt, &supports_[0]);
   const double xi = settings_.pic_blend;
+  x_start_ = particles_.x;
   for (Strand& s : strands_) {
     DiscreteElasticRod& rod = s.rod;
-    Eigen::VectorXd q = rod.configuration();  // the solved angles
     for (int i = 0; i < rod.numVertices(); ++i) {
       const int p = s.offset + i;
-      const Vec3 x_start = particles_.x[p];
+      const Vec3& x_start = x_start_[p];
       Vec3 v, x;
       if (held(s, i)) {  // the clamp's or the grip's motion
         v = particles_.v[p];
@@ -453,14 +459,56 @@ void HairDynamics::transferFromGrid(double dt) {
           if (gap < 0.0) x -= gap * pr.normal;
         }
       }
-      s.v[i] = v;
       particles_.v[p] = v;
       particles_.x[p] = x;
-      q.segment<3>(DiscreteElasticRod::vertexDof(i)) = x;
+    }
+  }
+  last_collisions_ = StrandCollisionStats();
+  if (settings_.strand_collisions.enabled && !strands_.empty()) {
+    // Han (4.13): the geometric impulses between strands on these velocities, clamped and
+    // gripped vertices immovable; a vertex they change moves again from x^n, put back out of
+    // any obstacle.
+    inverse_mass_.resize(particles_.size());
+    strand_offsets_.clear();
+    for (const Strand& s : strands_) {
+      strand_offsets_.push_back(s.offset);
+      for (int i = 0; i < s.rod.numVertices(); ++i)
+        inverse_mass_[s.offset + i] = held(s, i) ? 0.0 : 1.0 / s.rod.vertexMass(i);
+    }
+    strand_offsets_.push_back(particles_.size());
+    v_free_ = particles_.v;
+    last_collisions_ = collisions_.apply(x_start_, particles_.v, inverse_mass_, strand_offsets_,
+                                         strandThickness(), dt);
+    for (int p = 0; p < particles_.size(); ++p) {
+      if (particles_.v[p] == v_free_[p]) continue;
+      Vec3 x = x_start_[p] + dt * particles_.v[p];
+      for (const auto& surface : surfaces_) {
+        const SurfaceProjection pr = surface->project(x);
+        if (pr.gap < 0.0) x -= pr.gap * pr.normal;
+      }
+      particles_.x[p] = x;
+    }
+  }
+  for (Strand& s : strands_) {
+    DiscreteElasticRod& rod = s.rod;
+    Eigen::VectorXd q = rod.configuration();  // the solved angles
+    for (int i = 0; i < rod.numVertices(); ++i) {
+      s.v[i] = particles_.v[s.offset + i];
+      q.segment<3>(DiscreteElasticRod::vertexDof(i)) = particles_.x[s.offset + i];
     }
     rod.setConfiguration(q);
     rod.commit();
   }
+}
+
+double HairDynamics::strandThickness() const {
+  if (settings_.strand_collisions.thickness > 0.0) return settings_.strand_collisions.thickness;
+  double r = 0.0;
+  for (const Strand& s : strands_) {
+    const RodMaterial& m = s.rod.material();
+    r = std::max({r, m.radius_1, m.semiAxis2()});
+  }
+  return 2.0 * r;
 }
 
 void HairDynamics::endStep(double dt) {

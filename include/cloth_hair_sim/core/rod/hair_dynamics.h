@@ -15,6 +15,7 @@
 #include "cloth_hair_sim/core/rod/discrete_elastic_rod.h"
 #include "cloth_hair_sim/core/rod/obstacle_contact.h"
 #include "cloth_hair_sim/core/rod/rod_material.h"
+#include "cloth_hair_sim/core/rod/strand_collisions.h"
 #include "cloth_hair_sim/core/rod/strand_newton_solver.h"
 #include "cloth_hair_sim/core/world/body.h"
 
@@ -40,7 +41,11 @@ struct HairSettings {
   double cfl = 0.5;
   double max_time_step = 1.0 / 120.0;
   StrandNewtonSettings newton;  // each strand's implicit solve per step
-  int max_vertices = 1000000;   // over all strands; more is refused (memory, a typo in a groom)
+  // Han (4.13): the geometric strand-strand impulses (strand_collisions.h) on the vertices'
+  // new velocities, between all segments of all strands of this body (enabled: false leaves
+  // strands passing through each other, for comparison).
+  StrandCollisionSettings strand_collisions;
+  int max_vertices = 1000000;  // over all strands; more is refused (memory, a typo in a groom)
 };
 
 // Hair as a body of the world (world/body.h), Han section 4.2 with the strands as discrete
@@ -59,14 +64,17 @@ struct HairSettings {
 //   transferFromGrid the change of grid velocity back to the vertices, blended with xi (4.12);
 //                    then each vertex that still ends inside an obstacle
 //                    (the solve keeps them a radius off it) gets the grid's Coulomb projection as
-//                    an impulse, and positions move, x^{n+1} = x^n + dt v^{n+1} (4.13); the rod's
-//                    frames are transported there.
+//                    an impulse; then the strand-strand collision impulses (strand_collisions.h:
+//                    proximity, continuous collisions in Jacobi passes, rigid impact zones) so
+//                    that no segment passes through another over the step; positions move,
+//                    x^{n+1} = x^n + dt v^{n+1} (4.13), a vertex moved by the impulses into an
+//                    obstacle put back on its surface; the rod's frames are transported there.
 // Gravity acts in the Lagrangian update rather than on the grid as in Han (4.10): a stiff strand
 // solved implicitly without it would spring back each step from the sag the grid's gravity gave
 // it, and the hanging shape would lag by dt^2 g.
-// Not yet: the Hencky friction elastoplasticity between strands on the grid (4.3-4.6, 4.10-4.11)
-// and the geometric strand-strand impulses (4.13); strands of this body do not collide with each
-// other (other bodies' fields they meet through the world).
+// Not yet: the Hencky friction elastoplasticity between strands on the grid (4.3-4.6, 4.10-4.11);
+// strands meet each other through the geometric impulses only (other bodies' fields they meet
+// through the world).
 // One vertex of one strand.
 struct StrandVertex {
   int strand = 0;
@@ -126,6 +134,10 @@ class HairDynamics : public Body {
   double time() const { return time_; }
   // Newton iterations of the slowest strand in the last step (over its lag passes).
   int lastNewtonIterations() const { return last_iterations_; }
+  // The strand-strand collision stage of the last step (zero when disabled).
+  const StrandCollisionStats& lastStrandCollisions() const { return last_collisions_; }
+  // The contact distance between centrelines the collision stage uses [m].
+  double strandThickness() const;
 
   // Body stages.
   void beginStep(double dt) override;
@@ -194,6 +206,11 @@ class HairDynamics : public Body {
   std::vector<mpm::ColliderImpulse> collider_impulse_;
   std::map<int, Grip> grips_;
   int next_grip_ = 0;
+  StrandCollisions collisions_;
+  StrandCollisionStats last_collisions_;
+  std::vector<Eigen::Vector3d> x_start_, v_free_;
+  std::vector<double> inverse_mass_;
+  std::vector<int> strand_offsets_;
   bool converged_ = true;
   int last_iterations_ = 0;
   double time_ = 0.0;
