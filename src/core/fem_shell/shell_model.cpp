@@ -133,12 +133,6 @@ void ShellModel::setNodes(const std::vector<ShellNode>& nodes) {
     throw InputError("ShellModel::setNodes: " + std::to_string(nodes.size()) + " nodes for " +
                      std::to_string(nodes_.size()) + " vertices");
   nodes_ = nodes;
-  for (const auto& g : seam_groups_) {
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int v : g) mean += nodes_[v].position;
-    mean /= static_cast<double>(g.size());
-    for (int v : g) nodes_[v].position = mean;
-  }
   saved_ = anchor_ = nodes_;
 }
 

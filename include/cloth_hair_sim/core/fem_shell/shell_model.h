@@ -17,8 +17,8 @@ class ShellModel : public ContinuationProblem {
   // edge_contact: penalty contact also where an element edge meets a collider between its
   // nodes (a table edge or pedestal rim), see edgeContacts().
   // join_seams: the vertices that problem.seams sew together (SeamGroups) share their three
-  // translational unknowns, an exact tie; their directors stay their own, so a seam is a
-  // hinge line as a sewn seam with its allowance folded inside.
+  // translational unknowns, a tie that keeps their offsets (setNodes); their directors stay
+  // their own, so a seam is a hinge line as a sewn seam with its allowance folded inside.
   ShellModel(const DrapeProblem& problem, double contact_stiffness, bool edge_contact = true,
              bool join_seams = false);
 
@@ -45,8 +45,9 @@ class ShellModel : public ContinuationProblem {
   int activeContacts() const override { return active_contacts_; }
 
   const std::vector<ShellNode>& nodes() const { return nodes_; }
-  // Continues from these nodes (a previous model's of the same problem); with join_seams each
-  // sewn group is first moved to its mean position.
+  // Continues from these nodes (of the same problem). With join_seams the members of a sewn
+  // group share their increments, so they keep the offsets from one another they are given here:
+  // zero once the seam is closed.
   void setNodes(const std::vector<ShellNode>& nodes);
   // Rigid-body motions that neither the constrained unknowns nor the contacts active at the
   // current state restrain, in words ("" when there are none): the cause of a singular tangent.
