@@ -211,6 +211,16 @@ TEST(DrapeSeams, GoodSceneOfTheBadInputTestsLoads) {
   EXPECT_EQ(s.problem.seams.at(0).side_a.size(), 5u);
 }
 
+TEST(DrapeSeams, SolidShellRefusesSeams) {
+  const fs::path dir = tempDir();
+  std::ofstream(dir / "sewn.yaml") << kHangingPanels;
+  const ToolRun r = drape("'" + (dir / "sewn.yaml").string() +
+                          "' --quiet --method solid_shell --out '" + (dir / "out").string() + "'");
+  fs::remove_all(dir);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("the solid shell does not sew"), std::string::npos);
+}
+
 TEST(DrapeSeams, RefusesSidesOfUnequalVertexCount) {
   const ToolRun r = badScene("rectangle: {size: [0.2, 0.2], cells: [4, 6]}", "side: right", "back");
   EXPECT_EQ(r.status, 1);
