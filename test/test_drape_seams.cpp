@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/drape/seam_groups.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/io/scene.h"
@@ -209,6 +210,24 @@ TEST(DrapeSeams, GoodSceneOfTheBadInputTestsLoads) {
   text.replace(text.find("PANEL_NAME"), 10, "back");
   const chs::Scene s = chs::parseScene(text, ".", "good");
   EXPECT_EQ(s.problem.seams.at(0).side_a.size(), 5u);
+}
+
+TEST(DrapeSeams, FemShellRefusesSeamsHeldApart) {
+  std::string text = kHangingPanels;
+  const std::string clamp = "clamped: {plane: {axis: z, value: 1.1, tolerance: 1e-6}}";
+  text.replace(text.find(clamp), clamp.size(),
+               "clamped: [{plane: {axis: z, value: 1.1, tolerance: 1e-6}},\n"
+               "            {plane: {axis: z, value: 0.9, tolerance: 1e-6}},\n"
+               "            {plane: {axis: z, value: 0.85, tolerance: 1e-6}}]");
+  const chs::Scene scene = chs::parseScene(text, ".", "held_apart");
+  try {
+    chs::solveFemShell(scene.problem, scene.fem_shell);
+    FAIL() << "no InputError";
+  } catch (const chs::InputError& e) {
+    std::cout << "  " << e.what() << "\n";
+    EXPECT_NE(std::string(e.what()).find("sewn together but held apart along z"),
+              std::string::npos);
+  }
 }
 
 TEST(DrapeSeams, SolidShellRefusesSeams) {

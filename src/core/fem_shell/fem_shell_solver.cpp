@@ -137,16 +137,37 @@ DrapeResult solveSewn(const DrapeProblem& problem, const FemShellSettings& setti
     return x;
   };
   const double gap0 = seams.maxGap(positions());
+  // Held translations (before the ties spread them over the groups): two members held apart
+  // along the same axis can never meet.
+  std::vector<bool> held(3 * nodes.size(), false);
+  for (int v : problem.bc.clamped)
+    for (int k = 0; k < 3; ++k) held[3 * v + k] = true;
+  for (int v : problem.bc.pinned)
+    for (int k = 0; k < 3; ++k) held[3 * v + k] = true;
+  for (const auto& f : problem.bc.fixed_components) held[3 * f.vertex + f.axis] = true;
+  for (const auto& g : seams.groups())
+    for (int k = 0; k < 3; ++k)
+      for (int a : g)
+        for (int b : g)
+          if (a < b && held[3 * a + k] && held[3 * b + k] &&
+              std::abs(nodes[a].position[k] - nodes[b].position[k]) > 1e-9 * model.lengthScale())
+            throw InputError("seams: vertices " + std::to_string(a) + " and " + std::to_string(b) +
+                             " are sewn together but held apart along " + std::string(1, "xyz"[k]) +
+                             " by the boundary conditions");
   DrapeResult all;
   const int steps = settings.seam_steps;
   for (int step = 1; step <= steps; ++step) {
     const double t = static_cast<double>(step) / steps;
     const double shrink = static_cast<double>(steps - step) / (steps - step + 1);
     for (const auto& g : seams.groups()) {
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (int v : g) mean += nodes[v].position;
-      mean /= static_cast<double>(g.size());
-      for (int v : g) nodes[v].position = mean + shrink * (nodes[v].position - mean);
+      // The members meet at their mean, or, along an axis a member is held on, where it is.
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (int v : g) centre += nodes[v].position;
+      centre /= static_cast<double>(g.size());
+      for (int k = 0; k < 3; ++k)
+        for (int v : g)
+          if (held[3 * v + k]) centre[k] = nodes[v].position[k];
+      for (int v : g) nodes[v].position = centre + shrink * (nodes[v].position - centre);
     }
     model.setNodes(nodes);
     ProgressCallback p;
