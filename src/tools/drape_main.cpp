@@ -1,6 +1,7 @@
 // drape: solves the static drape of a scene file and writes the draped mesh, a JSON report and
 // pictures. Exit status: 0 converged, 2 not converged (results of the last state still
 // written), 1 bad input or any other error (message on stderr).
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -11,6 +12,7 @@
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/drape/drape_metrics.h"
+#include "cloth_hair_sim/core/drape/seam_groups.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/io/drape_plots.h"
 #include "cloth_hair_sim/core/io/drape_report.h"
@@ -141,6 +143,16 @@ int run(int argc, char** argv) {
     } catch (const chs::InputError&) {
       // A plane, sphere or capsule has no top face: no drape coefficient.
     }
+  }
+  if (!scene.problem.seams.empty()) {
+    const chs::SeamGroups seams(scene.problem.mesh.numVertices(), scene.problem.seams);
+    double lowest = positions.front().z();
+    for (const auto& x : positions) lowest = std::min(lowest, x.z());
+    context.seam_metrics = {{"pairs", static_cast<double>(seams.pairs().size())},
+                            {"max_gap_m", seams.maxGap(positions)}};
+    if (!opt.quiet)
+      std::printf("drape: %zu seam pairs, largest seam gap %.3g m, lowest point %.4f m\n",
+                  seams.pairs().size(), seams.maxGap(positions), lowest);
   }
   const std::string title = scene.name + " (" + method + ")";
   auto picture = [&](const std::string& what, const auto& draw) {

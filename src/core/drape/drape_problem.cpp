@@ -3,6 +3,7 @@
 #include <string>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/drape/seam_groups.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 #include "cloth_hair_sim/core/mesh/scene_scale.h"
 
@@ -31,6 +32,7 @@ void DrapeProblem::validate() const {
     if (!l.force.allFinite() || !l.moment.allFinite())
       throw InputError("nodal load on vertex " + std::to_string(l.vertex) + " is not finite");
   }
+  if (!seams.empty()) SeamGroups(n, seams);  // throws for unequal sides, bad or self-sewn vertices
   for (std::size_t i = 0; i < colliders.size(); ++i)
     if (!colliders[i]) throw InputError("collider " + std::to_string(i) + " is empty");
 }

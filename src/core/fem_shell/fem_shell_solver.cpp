@@ -2,8 +2,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/drape/seam_groups.h"
 
 #include "cloth_hair_sim/core/fem_shell/shell_model.h"
 #include "cloth_hair_sim/core/solver/arc_length_solver.h"
@@ -11,18 +13,19 @@
 
 namespace chs {
 
-DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& settings,
-                          const ProgressCallback& progress) {
-  const auto start = std::chrono::steady_clock::now();
-  problem.validate();
-  problem.checkStaticSupport();
-  ShellModel model(problem, settings.contact_stiffness, settings.edge_contact);
-  if (settings.imperfection > 0.0) {
-    if (settings.imperfection_shape == FemShellSettings::Imperfection::kWaves)
-      model.perturbWaves(settings.imperfection, settings.imperfection_waves);
-    else
-      model.perturbRandom(settings.imperfection, settings.imperfection_seed);
-  }
+namespace {
+
+void perturb(ShellModel& model, const FemShellSettings& settings) {
+  if (settings.imperfection <= 0.0) return;
+  if (settings.imperfection_shape == FemShellSettings::Imperfection::kWaves)
+    model.perturbWaves(settings.imperfection, settings.imperfection_waves);
+  else
+    model.perturbRandom(settings.imperfection, settings.imperfection_seed);
+}
+
+// One static solve of a model, from its current nodes, with the stability of what it finds.
+DrapeResult solveModel(const DrapeProblem& problem, ShellModel& model,
+                       const FemShellSettings& settings, const ProgressCallback& progress) {
   const bool has_energy = std::isfinite(model.energy(0.0));
   FemShellMethod method = settings.solver;
   if (method == FemShellMethod::kAuto)
@@ -111,6 +114,120 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
                   std::to_string(stability.negative_eigenvalues) +
                   " negative eigenvalues of the tangent), not a drape";
     }
+  }
+  return r;
+}
+
+// Sewing (the FEM counterpart of seed 000 section 3.2.1's): each sewn group (SeamGroups) is
+// tied, its members sharing their translational unknowns (ShellModel's join_seams), and the
+// offsets between them are load-stepped to zero: before step s of N they are scaled about the
+// group's mean by (N - s) / (N - s + 1), and the garment is solved to equilibrium with gravity,
+// loads and contact with those offsets held. A zero-length constraint applied in N increments
+// that leaves the seam line free to move (round a body, say); at step N the seams are closed
+// exactly and that equilibrium is the drape.
+DrapeResult solveSewn(const DrapeProblem& problem, const FemShellSettings& settings,
+                      const ProgressCallback& progress) {
+  const SeamGroups seams(problem.mesh.numVertices(), problem.seams);
+  ShellModel model(problem, settings.contact_stiffness, settings.edge_contact, true);
+  perturb(model, settings);
+  std::vector<ShellNode> nodes = model.nodes();
+  auto positions = [&] {
+    std::vector<Eigen::Vector3d> x;
+    for (const auto& n : nodes) x.push_back(n.position);
+    return x;
+  };
+  const double gap0 = seams.maxGap(positions());
+  // Held translations (before the ties spread them over the groups): two members held apart
+  // along the same axis can never meet.
+  std::vector<bool> held(3 * nodes.size(), false);
+  for (int v : problem.bc.clamped)
+    for (int k = 0; k < 3; ++k) held[3 * v + k] = true;
+  for (int v : problem.bc.pinned)
+    for (int k = 0; k < 3; ++k) held[3 * v + k] = true;
+  for (const auto& f : problem.bc.fixed_components) held[3 * f.vertex + f.axis] = true;
+  for (const auto& g : seams.groups())
+    for (int k = 0; k < 3; ++k)
+      for (int a : g)
+        for (int b : g)
+          if (a < b && held[3 * a + k] && held[3 * b + k] &&
+              std::abs(nodes[a].position[k] - nodes[b].position[k]) > 1e-9 * model.lengthScale())
+            throw InputError("seams: vertices " + std::to_string(a) + " and " + std::to_string(b) +
+                             " are sewn together but held apart along " + std::string(1, "xyz"[k]) +
+                             " by the boundary conditions");
+  DrapeResult all;
+  const int steps = settings.seam_steps;
+  for (int step = 1; step <= steps; ++step) {
+    const double t = static_cast<double>(step) / steps;
+    const double shrink = static_cast<double>(steps - step) / (steps - step + 1);
+    for (const auto& g : seams.groups()) {
+      // The members meet at their mean, or, along an axis a member is held on, where it is.
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (int v : g) centre += nodes[v].position;
+      centre /= static_cast<double>(g.size());
+      for (int k = 0; k < 3; ++k)
+        for (int v : g)
+          if (held[3 * v + k]) centre[k] = nodes[v].position[k];
+      for (int v : g) nodes[v].position = centre + shrink * (nodes[v].position - centre);
+    }
+    model.setNodes(nodes);
+    ProgressCallback p;
+    if (progress)
+      p = [&](const ProgressEvent& e) {
+        ProgressEvent f = e;
+        f.load_step = step;
+        f.load_factor = t;
+        f.total_iterations += all.iterations;
+        progress(f);
+      };
+    DrapeResult r = solveModel(problem, model, settings, p);
+    for (ProgressEvent e : r.history) {
+      e.load_step = step;
+      e.load_factor = t;
+      e.total_iterations += all.iterations;
+      all.history.push_back(e);
+    }
+    all.iterations += r.iterations;
+    r.history = all.history;
+    r.iterations = all.iterations;
+    r.load_steps = step;
+    r.load_factor = t;
+    std::ostringstream status;
+    // On the way an equilibrium is enough: before the seams close, a garment that does not yet
+    // touch what will hold it has neutral modes (a zero eigenvalue the check calls a saddle).
+    const bool equilibrium =
+        r.converged || (!r.cancelled && r.residual <= 100.0 * settings.tolerance);
+    if (step < steps && !equilibrium) {
+      status << "sewing step " << step << " of " << steps << " (seam gap " << (1.0 - t) * gap0
+             << " m) failed: " << r.status;
+      r.status = status.str();
+      return r;
+    }
+    if (step == steps) {
+      status << "seams (largest gap " << gap0 << " m) closed in " << steps
+             << " steps and tied; drape: " << r.status;
+      r.status = status.str();
+      return r;
+    }
+    nodes = model.nodes();
+  }
+  return all;  // not reached: seam_steps >= 1
+}
+
+}  // namespace
+
+DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& settings,
+                          const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  problem.validate();
+  problem.checkStaticSupport();
+  if (settings.seam_steps < 1) throw InputError("fem_shell.seam_steps must be at least 1");
+  DrapeResult r;
+  if (problem.seams.empty()) {
+    ShellModel model(problem, settings.contact_stiffness, settings.edge_contact);
+    perturb(model, settings);
+    r = solveModel(problem, model, settings, progress);
+  } else {
+    r = solveSewn(problem, settings, progress);
   }
   r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

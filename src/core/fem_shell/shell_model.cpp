@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/drape/seam_groups.h"
 #include "cloth_hair_sim/core/solver/storage_slot.h"
 
 namespace chs {
@@ -22,7 +23,8 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 }
 }  // namespace
 
-ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness, bool edge_contact)
+ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness, bool edge_contact,
+                       bool join_seams)
     : problem_(problem) {
   const QuadMesh& mesh = problem.mesh;
   const int nv = mesh.numVertices();
@@ -67,8 +69,25 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness, bo
   for (int v : problem.bc.pinned)
     for (int k = 0; k < 3; ++k) dof_[5 * v + k] = -1;
   for (const auto& f : problem.bc.fixed_components) dof_[5 * f.vertex + f.axis] = -1;
-  for (int& d : dof_)
-    if (d == 0) d = num_free_++;
+  // A sewn group's translations are one set of unknowns, numbered at its first member; it is
+  // held along an axis if any member is.
+  std::vector<int> tied_to(nv, -1);
+  if (join_seams && !problem.seams.empty()) {
+    seam_groups_ = SeamGroups(nv, problem.seams).groups();
+    for (const auto& g : seam_groups_)
+      for (int k = 0; k < 3; ++k) {
+        bool held = false;
+        for (int v : g) held = held || dof_[5 * v + k] < 0;
+        for (int v : g) dof_[5 * v + k] = held ? -1 : 0;
+        for (std::size_t i = 1; i < g.size(); ++i) tied_to[g[i]] = g[0];
+      }
+  }
+  for (int v = 0; v < nv; ++v)
+    for (int k = 0; k < 5; ++k)
+      if (dof_[5 * v + k] == 0 && (k >= 3 || tied_to[v] < 0)) dof_[5 * v + k] = num_free_++;
+  for (int v = 0; v < nv; ++v)
+    if (tied_to[v] >= 0)
+      for (int k = 0; k < 3; ++k) dof_[5 * v + k] = dof_[5 * tied_to[v] + k];
 
   double load2 = 0.0;
   for (int v = 0; v < nv; ++v) load2 += f_dead_[v].squaredNorm() + moment_[v].squaredNorm();
@@ -107,6 +126,14 @@ ShellModel::ShellModel(const DrapeProblem& problem, double contact_stiffness, bo
   k_contact_ = contact_stiffness > 0.0
                    ? contact_stiffness
                    : 100.0 * problem.material.young * problem.material.thickness;
+}
+
+void ShellModel::setNodes(const std::vector<ShellNode>& nodes) {
+  if (nodes.size() != nodes_.size())
+    throw InputError("ShellModel::setNodes: " + std::to_string(nodes.size()) + " nodes for " +
+                     std::to_string(nodes_.size()) + " vertices");
+  nodes_ = nodes;
+  saved_ = anchor_ = nodes_;
 }
 
 void ShellModel::buildPattern() {

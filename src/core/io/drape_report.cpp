@@ -54,6 +54,11 @@ std::string drapeReportJson(const DrapeResult& r, const ReportContext& c) {
     for (const auto& [k, v] : c.drape_metrics) metrics[k] = num(v);
     j["drape_metrics"] = metrics;
   }
+  if (!c.seam_metrics.empty()) {
+    json metrics = json::object();
+    for (const auto& [k, v] : c.seam_metrics) metrics[k] = num(v);
+    j["seams"] = metrics;
+  }
   j["material"] = material;
   j["colliders"] = c.colliders;
 

@@ -11,6 +11,7 @@
 #include "cloth_hair_sim/core/io/mesh_reader.h"
 #include "cloth_hair_sim/core/io/triangle_mesh_reader.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
+#include "scene_panels.h"
 #include "scene_yaml.h"
 
 namespace chs {
@@ -26,7 +27,7 @@ using Section = YamlSection;
 
 QuadMesh parseGarment(const YAML::Node& node, const std::string& base_dir) {
   Section g(node, "garment");
-  const std::string kind = kindOf(g, {"rectangle", "disc", "file"}, "garment");
+  const std::string kind = kindOf(g, {"rectangle", "disc", "file", "panels"}, "garment");
   if (kind == "rectangle") {
     Section r(g.get(kind), "garment.rectangle");
     const Eigen::Vector2d size = r.vector("size", 2);
@@ -81,30 +82,6 @@ double edgeRadius(Section& s, double fallback) {
   return r;
 }
 
-// A rigid pose: position plus rpy (radians, URDF order: yaw about z, then pitch about y, then
-// roll about x, i.e. R = Rz Ry Rx) or quaternion [x, y, z, w].
-Eigen::Isometry3d parsePose(Section& s) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = s.vector3("position", Eigen::Vector3d::Zero());
-  if (s.has("rpy") && s.has("quaternion"))
-    fail(s.key("quaternion"), "give either rpy or quaternion");
-  if (s.has("rpy")) {
-    const Eigen::Vector3d rpy = s.vector("rpy", 3);
-    pose.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-                     Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-                     Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-                        .toRotationMatrix();
-  } else if (s.has("quaternion")) {
-    const Eigen::VectorXd q = s.vector("quaternion", 4);
-    // A quaternion written with a few digits is off unit length by ~1e-4; more is a typo.
-    if (std::abs(q.norm() - 1.0) > 1e-3)
-      fail(s.key("quaternion"),
-           "must be a unit quaternion [x, y, z, w], its norm is " + str(q.norm()));
-    pose.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
-  }
-  return pose;
-}
-
 // A closed triangle mesh file (any assimp format) as a distance field, posed in the world.
 void parseMeshCollider(Section& s, const std::string& base_dir, ColliderSpec& c) {
   c.type = ColliderSpec::Type::kMesh;
@@ -119,7 +96,7 @@ void parseMeshCollider(Section& s, const std::string& base_dir, ColliderSpec& c)
                            : Eigen::Vector3d::Constant(Section::toNumber(n, s.key("scale")));
     if (!(scale.array() > 0.0).all()) fail(s.key("scale"), "must be positive");
   }
-  c.pose = parsePose(s);
+  c.pose = parseRigidPose(s);
   std::vector<std::string> parts;
   if (YAML::Node n = s.get("parts")) {
     if (!n.IsSequence() || n.size() == 0) fail(s.key("parts"), "must be a list of names");
@@ -301,6 +278,7 @@ FemShellSettings parseFemShell(const YAML::Node& node) {
   f.max_iterations = s.integer("max_iterations", f.max_iterations, 1);
   f.max_saddle_escapes = s.integer("max_saddle_escapes", f.max_saddle_escapes, 0);
   f.edge_contact = s.boolean("edge_contact", f.edge_contact);
+  f.seam_steps = s.integer("seam_steps", f.seam_steps, 1);
   s.done();
   if (f.tolerance >= 1.0) fail(s.key("tolerance"), "must be below 1 (a relative residual)");
   if (f.initial_load_increment > f.max_load_increment)
@@ -451,7 +429,15 @@ Scene parse(const YAML::Node& root, const std::string& base_dir, const std::stri
   if (scene.name.empty()) fail("name", "must not be empty");
   scene.method = parseMethod(s.text("method", "fem_shell"));
   scene.problem.gravity = s.vector3("gravity", scene.problem.gravity);
-  scene.problem.mesh = parseGarment(s.require("garment"), base_dir);
+  const YAML::Node garment = s.require("garment");
+  GarmentPanels panels;
+  if (garment.IsMap() && garment["panels"]) {
+    panels = parsePanels(garment, base_dir);
+    scene.problem.mesh = panels.mesh;
+  } else {
+    scene.problem.mesh = parseGarment(garment, base_dir);
+  }
+  if (s.has("seams")) scene.problem.seams = parseSeams(s.get("seams"), panels);
   const YAML::Node material = s.require("material");
   if (material.IsMap() && material["woven"])
     parseWoven(material, scene);
@@ -544,7 +530,8 @@ std::vector<std::pair<std::string, double>> settingsList(const FemShellSettings&
       {"solver", static_cast<double>(s.solver)},  // 0 auto, 1 energy_newton, 2 arc_length
       {"max_iterations", s.max_iterations},
       {"max_saddle_escapes", s.max_saddle_escapes},
-      {"edge_contact", s.edge_contact ? 1.0 : 0.0}};
+      {"edge_contact", s.edge_contact ? 1.0 : 0.0},
+      {"seam_steps", s.seam_steps}};
 }
 
 std::vector<std::pair<std::string, double>> settingsList(const ParticleSettings& s) {
@@ -558,7 +545,10 @@ std::vector<std::pair<std::string, double>> settingsList(const ParticleSettings&
           {"force_tolerance", s.force_tolerance},
           {"max_iterations", s.max_iterations},
           {"progress_interval", s.progress_interval},
-          {"contact_tolerance", s.contact_tolerance}};
+          {"contact_tolerance", s.contact_tolerance},
+          {"sewing_stiffness", s.sewing_stiffness},
+          {"seam_join_distance", s.seam_join_distance},
+          {"max_sewing_iterations", s.max_sewing_iterations}};
 }
 
 std::vector<std::pair<std::string, double>> materialList(const ShellMaterial& m) {

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/mesh/vertex_selection.h"
@@ -129,6 +131,30 @@ Eigen::VectorXd YamlSection::toVector(const YAML::Node& n, const std::string& ke
   Eigen::VectorXd v(size);
   for (int i = 0; i < size; ++i) v[i] = toNumber(n[i], key + "[" + std::to_string(i) + "]");
   return v;
+}
+
+// A rigid pose: position plus rpy (radians, URDF order: yaw about z, then pitch about y, then
+// roll about x, i.e. R = Rz Ry Rx) or quaternion [x, y, z, w].
+Eigen::Isometry3d parseRigidPose(YamlSection& s) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = s.vector3("position", Eigen::Vector3d::Zero());
+  if (s.has("rpy") && s.has("quaternion"))
+    failKey(s.key("quaternion"), "give either rpy or quaternion");
+  if (s.has("rpy")) {
+    const Eigen::Vector3d rpy = s.vector("rpy", 3);
+    pose.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                     Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+                        .toRotationMatrix();
+  } else if (s.has("quaternion")) {
+    const Eigen::VectorXd q = s.vector("quaternion", 4);
+    // A quaternion written with a few digits is off unit length by ~1e-4; more is a typo.
+    if (std::abs(q.norm() - 1.0) > 1e-3)
+      failKey(s.key("quaternion"),
+              "must be a unit quaternion [x, y, z, w], its norm is " + str(q.norm()));
+    pose.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
+  }
+  return pose;
 }
 
 std::string kindOf(const YamlSection& s, const std::vector<std::string>& kinds,

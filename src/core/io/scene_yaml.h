@@ -10,6 +10,7 @@
 
 #include <yaml-cpp/yaml.h>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/material/shell_material.h"
 #include "cloth_hair_sim/core/mesh/quad_mesh.h"
@@ -62,6 +63,10 @@ class YamlSection {
   std::string path_;
   std::set<std::string> used_;
 };
+
+// A rigid pose (drape scenes) from the keys position [x, y, z] and rpy [r, p, y] (radians, URDF
+// order: R = Rz(y) Ry(p) Rx(r)) or quaternion [x, y, z, w]; the identity when absent.
+Eigen::Isometry3d parseRigidPose(YamlSection& s);
 
 // Exactly one of the given keys must be present: the kind of a garment, collider or selector.
 std::string kindOf(const YamlSection& s, const std::vector<std::string>& kinds,

@@ -187,7 +187,10 @@ DrapeResult solveParticleStatic(const DrapeProblem& problem, const ParticleSetti
   const ParticleNetwork network(problem.mesh, problem.material, problem.bc.clamped,
                                 settings.network);
   const ParticleLoads loads(problem, network);
-  const SeamGroups seams(n, settings.seams);
+  // The problem's seams (a scene's) and the settings' (a caller's) are sewn alike.
+  std::vector<Seam> all_seams = problem.seams;
+  all_seams.insert(all_seams.end(), settings.seams.begin(), settings.seams.end());
+  const SeamGroups seams(n, all_seams);
 
   const double b = network.referenceEdgeLength();
   const auto bound = network.stiffnessBound();

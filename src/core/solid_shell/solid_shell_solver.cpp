@@ -180,6 +180,10 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
   const auto start = std::chrono::steady_clock::now();
   problem.validate();
   validateSolidShellSettings(settings);
+  if (!problem.seams.empty())
+    throw InputError(
+        "seams: the solid shell does not sew (use method fem_shell or particle for a garment with "
+        "seams)");
   if (settings.scheme == SolidShellScheme::kStatic) problem.checkStaticSupport();
   SolidShellModel model(problem, settings.thickness_strain, settings.mu, settings.contact_stiffness,
                         settings.scheme == SolidShellScheme::kStatic);

@@ -33,6 +33,12 @@ struct BoundaryConditions {
   std::vector<NodalLoad> loads;  // scaled by the load factor
 };
 
+// A seam (seed 000 section 3.2.1): side_a[i] is sewn to side_b[i]. The sides are runs of
+// boundary vertices, possibly on different panels of one mesh, listed in matching order.
+struct Seam {
+  std::vector<int> side_a, side_b;
+};
+
 // A static drape: a garment in its flat (stress-free) state, its material, gravity, the rigid
 // obstacles and the boundary conditions. Shared by the FEM shell and the particle method.
 struct DrapeProblem {
@@ -44,6 +50,10 @@ struct DrapeProblem {
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
   RigidSurfaces colliders;
   BoundaryConditions bc;
+  // Seams between the panels (pairs of boundary vertices): each method first pulls them
+  // together, then keeps them joined (the particle method merges the particles, the FEM shell
+  // ties the positions, see solveFemShell).
+  std::vector<Seam> seams;
 
   // Throws InputError naming the problem: material, mesh, indices out of range.
   void validate() const;

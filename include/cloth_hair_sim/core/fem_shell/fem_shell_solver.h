@@ -40,12 +40,16 @@ struct FemShellSettings {
   unsigned imperfection_seed = 1;
   enum class Imperfection { kRandom, kWaves } imperfection_shape = Imperfection::kRandom;
   int imperfection_waves = 4;
+  // Sewing (DrapeProblem::seams): the tied partners' offsets go to zero in this many steps, each
+  // an equilibrium; the last is the drape (solveFemShell).
+  int seam_steps = 10;
   // Polled each iteration: once set, the solve returns the last converged load step (while
   // settling, the state of least residual) with DrapeResult::cancelled.
   const CancelFlag* cancel = nullptr;
 };
 
 // Solves the static drape and checks the stability of the equilibrium it finds (result.stability):
+// with seams, after sewing them (tied, their offsets stepped to zero; see solveSewn).
 // a saddle of a problem with a potential energy is not reported as converged. Never throws on
 // non-convergence: the result then holds the last
 // converged load step, converged = false and a status that says why. Throws InputError for input

@@ -16,7 +16,11 @@ class ShellModel : public ContinuationProblem {
  public:
   // edge_contact: penalty contact also where an element edge meets a collider between its
   // nodes (a table edge or pedestal rim), see edgeContacts().
-  ShellModel(const DrapeProblem& problem, double contact_stiffness, bool edge_contact = true);
+  // join_seams: the vertices that problem.seams sew together (SeamGroups) share their three
+  // translational unknowns, a tie that keeps their offsets (setNodes); their directors stay
+  // their own, so a seam is a hinge line as a sewn seam with its allowance folded inside.
+  ShellModel(const DrapeProblem& problem, double contact_stiffness, bool edge_contact = true,
+             bool join_seams = false);
 
   int size() const override { return num_free_; }
   void linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
@@ -41,6 +45,10 @@ class ShellModel : public ContinuationProblem {
   int activeContacts() const override { return active_contacts_; }
 
   const std::vector<ShellNode>& nodes() const { return nodes_; }
+  // Continues from these nodes (of the same problem). With join_seams the members of a sewn
+  // group share their increments, so they keep the offsets from one another they are given here:
+  // zero once the seam is closed.
+  void setNodes(const std::vector<ShellNode>& nodes);
   // Rigid-body motions that neither the constrained unknowns nor the contacts active at the
   // current state restrain, in words ("" when there are none): the cause of a singular tangent.
   std::string unrestrainedRigidModes() const;
@@ -53,9 +61,10 @@ class ShellModel : public ContinuationProblem {
   const DrapeProblem& problem_;
   std::vector<ShellElement> elements_;
   std::vector<ShellNode> nodes_, saved_, anchor_;
-  std::vector<int> dof_;                 // 5 per vertex, -1 when constrained
-  std::vector<Eigen::Vector3d> f_dead_;  // reference forces (gravity + nodal forces)
-  std::vector<Eigen::Vector3d> moment_;  // reference nodal moments
+  std::vector<int> dof_;                       // 5 per vertex, -1 when constrained
+  std::vector<std::vector<int>> seam_groups_;  // with join_seams: vertices tied together
+  std::vector<Eigen::Vector3d> f_dead_;        // reference forces (gravity + nodal forces)
+  std::vector<Eigen::Vector3d> moment_;        // reference nodal moments
   int num_free_ = 0;
   double load_norm_ = 0.0, length_scale_ = 1.0, k_contact_ = 0.0;
   int active_contacts_ = 0;

@@ -21,6 +21,8 @@ struct ReportContext {
   // Drape coefficient, folds, lowest point... (core/drape/drape_metrics.h) when the first
   // collider is a table or pedestal; empty otherwise.
   std::vector<std::pair<std::string, double>> drape_metrics;
+  // With seams: the number of sewn pairs and the largest distance between partners (m).
+  std::vector<std::pair<std::string, double>> seam_metrics;
 };
 
 // JSON report: converged, status, iterations, load steps, final load factor and residual,

@@ -35,6 +35,17 @@ struct SceneOutput {
 //     rectangle: {size: [lx, ly], cells: [nx, ny], centre: [x, y, z]}
 //     disc: {radius: r, cells: n_across, centre: [x, y, z]}
 //     file: path | {path: p, scale: s, translate: [x, y, z]}  (path relative to the scene)
+//     panels: [{name, rectangle: {size: [lx, ly], cells: [nx, ny]} | file: path | {path, scale},
+//               position: [x, y, z], rpy: [r, p, y] | quaternion: [x, y, z, w]}, ...]
+//       flat pieces to sew (a rectangle lies in its own x-y plane, centred on its origin, then
+//       posed); flat_tolerance: t [m] (default 1e-4 of a panel's diagonal) bounds a panel's
+//       vertices' distance from its best-fit plane
+//   seams: [{a: {panel: name, side: left | right | bottom | top} | {panel, vertices: [..]},
+//            b: {...}, reverse: false}, ...]   (garment panels only)
+//     a's k-th vertex is sewn to b's k-th (b's run reversed with reverse: true); a rectangle's
+//     sides run along its own +x (bottom, top) or +y (left, right); vertices index the panel's
+//     own mesh and must lie on its boundary; both sides need as many vertices and lengths within
+//     1%. Every method pulls the pairs together, then keeps them joined (DrapeProblem::seams).
 //   material: preset name (cotton_eischen, wool_suiting) or {preset: name (optional),
 //     young [Pa], poisson, thickness [m], areal_density [kg/m^2], shear_correction,
 //     bending_rigidity [N m] (instead of young)}: without a preset all four are required;
@@ -59,11 +70,12 @@ struct SceneOutput {
 //     S, a vertex selector: an index, a list of selectors, or one of {vertex: i},
 //     {vertices: [..]}, {nearest: [x, y, z]}, {plane: {axis: x|y|z, value, tolerance}},
 //     {box: {min, max}}, {boundary: true}
-//   fem_shell: FemShellSettings fields by name
+//   fem_shell: FemShellSettings fields by name (seam_steps for the seams)
 //   solid_shell: SolidShellSettings fields by name; scheme: static | dynamic,
 //     thickness_strain: green | quasi_engineering
-//   particle: ParticleSettings fields by name (numbers and restart; seams not yet), with
-//     stretch_compression and shear_compression for the network's D' and B'
+//   particle: ParticleSettings fields by name (numbers and restart; sewing_stiffness,
+//     seam_join_distance, max_sewing_iterations for the seams), with stretch_compression and
+//     shear_compression for the network's D' and B'
 //   output: {directory, obj, ply, report, convergence, picture}
 struct Scene {
   std::string name;

@@ -5,8 +5,8 @@
 
 #include "cloth_hair_sim/core/common/cancel_flag.h"
 #include "cloth_hair_sim/core/drape/drape_problem.h"
+#include "cloth_hair_sim/core/drape/seam_groups.h"
 #include "cloth_hair_sim/core/particle/particle_network.h"
-#include "cloth_hair_sim/core/particle/particle_seams.h"
 
 namespace chs {
 

@@ -3,13 +3,9 @@
 
 #include <Eigen/Core>
 
-namespace chs {
+#include "cloth_hair_sim/core/drape/drape_problem.h"
 
-// A seam (seed 000 section 3.2.1): side_a[i] is sewn to side_b[i]. The sides are runs of
-// boundary vertices, possibly on different panels of one mesh, listed in matching order.
-struct Seam {
-  std::vector<int> side_a, side_b;
-};
+namespace chs {
 
 // The vertices that seams join, grouped (a vertex on two seams, e.g. where three panels meet,
 // joins both partners): before they meet, sewing springs pull each pair together; once joined,
@@ -20,6 +16,7 @@ class SeamGroups {
   SeamGroups(int num_vertices, const std::vector<Seam>& seams);
 
   bool empty() const { return pairs_.empty(); }
+  const std::vector<std::pair<int, int>>& pairs() const { return pairs_; }
   const std::vector<std::vector<int>>& groups() const { return groups_; }
 
   // Largest distance between two vertices sewn to each other.

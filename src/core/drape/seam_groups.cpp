@@ -1,4 +1,4 @@
-#include "cloth_hair_sim/core/particle/particle_seams.h"
+#include "cloth_hair_sim/core/drape/seam_groups.h"
 
 #include <algorithm>
 #include <map>
