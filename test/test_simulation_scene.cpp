@@ -124,7 +124,7 @@ TEST(SimulationScene, RefusesBadInputNamingTheKey) {
       {edited("pins: [{nearest: [0, -0.1, 1]}, 0]", "pins: [15]"),
        "bodies[0].pins[0]: vertex 15 is out of range (the mesh has 15 vertices)"},
       {edited("integration: backward_euler", "integration: leapfrog"),
-       "must be symplectic_euler, backward_euler or lagrangian_implicit"},
+       "must be symplectic_euler, backward_euler, lagrangian_implicit or lagrangian_bdf2"},
       {edited("sphere: {radius: 0.1}", "sphere: {radius: 0.1, colour: red}"),
        "colliders[1].sphere.colour: unknown key"},
       {edited("sphere: {radius: 0.1}", "cube: {size: 1}"),
