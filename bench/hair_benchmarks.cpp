@@ -40,6 +40,7 @@ constexpr int kSegments = 24;
 std::shared_ptr<chs::rod::HairDynamics> headOfHair(int strands) {
   chs::rod::HairSettings s;
   s.grid_spacing = 0.01;
+  s.strand_collisions.enabled = true;  // the collision stage is part of the frame measured
   auto hair = std::make_shared<chs::rod::HairDynamics>(s);
   const double golden = M_PI * (3.0 - std::sqrt(5.0));
   for (int k = 0; k < strands; ++k) {
@@ -117,6 +118,7 @@ void fallingBundles(benchmark::State& state) {
     chs::World world(ws);
     chs::rod::HairSettings hs;
     hs.grid_spacing = 0.01;
+    hs.strand_collisions.enabled = true;
     auto hair = std::make_shared<chs::rod::HairDynamics>(hs);
     world.add("hair", hair);
     for (int a = 0; a < n; ++a)

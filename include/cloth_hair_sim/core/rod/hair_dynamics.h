@@ -42,8 +42,8 @@ struct HairSettings {
   double max_time_step = 1.0 / 120.0;
   StrandNewtonSettings newton;  // each strand's implicit solve per step
   // Han (4.13): the geometric strand-strand impulses (strand_collisions.h) on the vertices'
-  // new velocities, between all segments of all strands of this body (enabled: false leaves
-  // strands passing through each other, for comparison).
+  // new velocities, between all segments of all strands of this body (off by default: see
+  // StrandCollisionSettings::enabled; without them strands pass through each other).
   StrandCollisionSettings strand_collisions;
   int max_vertices = 1000000;  // over all strands; more is refused (memory, a typo in a groom)
 };
