@@ -5,7 +5,8 @@
 // root frame, a curl stays at rest and
 // sags to its static equilibrium under gravity, a strand rests on a garment of the same world,
 // snapshots restore, the clamp carries the strand's weight and moment, strands draped over a
-// horizontal capsule (a comb) load it with their weight, a grip carries a lock's weight and moment
+// horizontal capsule (a comb) load it with their weight, a bar appearing deep in hair is left
+// at the recovery speed, a grip carries a lock's weight and moment
 // as it lifts it and lets it fall when removed, and bad input is refused.
 #include <cmath>
 #include <cstdio>
@@ -339,6 +340,53 @@ TEST(HairWorld, ClampCarriesTheStrandsWeight) {
       -moment.y());
   EXPECT_LT((h.force - weight).norm(), 1e-6 * weight.norm());
   EXPECT_LT((h.torque + moment).norm(), 1e-6 * moment.norm());
+}
+
+// A comb's bar (a capsule of radius 5 mm) that appears 3 mm deep in hanging hair, as when the
+// node holds a diverged strand still while the bar moves on, or a frame jumps: the stiff penalty
+// and the end-of-step projection would move the vertices out within one step, at depth / dt
+// (48 m/s at 1/16 ms, beyond the node's divergence speed), and the edges' recoil fling the
+// strand. They leave at the recovery speed instead: no vertex is faster than the obstacle's
+// recovery speed (0.1 m/s) with margin, and all are out (to the hair's radius) after the depth's
+// recovery time, 30 ms, and twice that.
+TEST(HairWorld, DeepObstacleIsLeftAtTheRecoverySpeed) {
+  auto w = hairWorld(settings());
+  for (double x : {-0.002, 0.0, 0.002})
+    w->hair->addStrand(straightStrand(Vec3(x, 0.0, 0.1), -Vec3::UnitZ(), 0.1, 20), humanHair(),
+                       true);
+  const double r = 0.005, depth = 0.003;
+  const Vec3 centre(0.0, r - depth, 0.05);  // its surface 3 mm past the strands' plane y = 0
+  w->world.setColliders(
+      {std::make_shared<CapsuleSurface>(centre - Vec3(0.05, 0, 0), centre + Vec3(0.05, 0, 0), r)},
+      {}, {0.0});
+  const CapsuleSurface bar(centre - Vec3(0.05, 0, 0), centre + Vec3(0.05, 0, 0), r);
+  const double recovery = HairSettings().obstacle_contact.recovery_speed;
+  const auto deepest = [&] {
+    double d = 0.0;
+    for (int s = 0; s < w->hair->numStrands(); ++s)
+      for (const Vec3& x : w->hair->strand(s).positions()) d = std::max(d, -bar.project(x).gap);
+    return d;
+  };
+  const double start_depth = deepest();
+  double v_max = 0.0, t = 0.0, depth_at_recovery = 0.0;
+  for (const double dt : {1e-3 / 16.0, 1.0 / 240.0}) {
+    const double until = t + (dt < 1e-3 ? 0.005 : 0.055);
+    for (; t < until; t += dt) {
+      w->world.step(dt);
+      for (int s = 0; s < w->hair->numStrands(); ++s)
+        for (const Vec3& v : w->hair->velocities(s)) v_max = std::max(v_max, v.norm());
+      if (t < depth / recovery) depth_at_recovery = deepest();
+    }
+  }
+  const double end_depth = deepest();
+  std::printf(
+      "hanging hair with a bar appearing %.1f mm deep (deepest vertex %.2f mm): fastest vertex "
+      "%.3f m/s (recovery speed %.2f m/s), deepest after %.0f ms %.3f mm, after %.0f ms %.4f mm\n",
+      1e3 * depth, 1e3 * start_depth, v_max, recovery, 1e3 * depth / recovery,
+      1e3 * depth_at_recovery, 1e3 * t, 1e3 * end_depth);
+  EXPECT_GT(start_depth, 0.9 * depth);
+  EXPECT_LT(v_max, 5.0 * recovery);
+  EXPECT_LT(end_depth, humanHair().radius_1);
 }
 
 // Free strands draped across a horizontal capsule (a comb's bar, mu = 0.5), symmetric about it:

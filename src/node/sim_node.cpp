@@ -284,9 +284,13 @@ void SimNode::publishColliderWrenches() {
     chs::ColliderLoad mean;
     mean.force = sum->second.force / sum->second.duration;
     mean.moment = sum->second.moment / sum->second.duration;
-    const Eigen::Matrix3d r = c.world_from_frame.linear();
+    // The frame where the update left the collider (behind its tf pose while inputs lag).
+    const auto from = collider_from_.find(c.name);
+    const Eigen::Isometry3d& pose =
+        from == collider_from_.end() ? c.world_from_frame : from->second;
+    const Eigen::Matrix3d r = pose.linear();
     const Eigen::Vector3d f = r.transpose() * mean.force;
-    const Eigen::Vector3d t = r.transpose() * mean.momentAbout(c.world_from_frame.translation());
+    const Eigen::Vector3d t = r.transpose() * mean.momentAbout(pose.translation());
     geometry_msgs::WrenchStamped msg;
     msg.header.stamp = now;
     msg.header.frame_id = c.frame_id;
@@ -301,12 +305,17 @@ void SimNode::publishColliderWrenches() {
   collider_loads_.clear();
 }
 
-void SimNode::advance(int count, double h) {
+void SimNode::advance(int count, double h, double reach) {
   const double duration = count * h;
-  teleportJumps(duration);
+  // The inputs' motion from their start pose to their current one took this long.
+  const double span = duration / reach;
+  teleportJumps(span);
   // Kinematic inputs (tf-posed colliders, frame pins, grasps) move from their pose at the start
-  // of the update to the current one across its substeps, colliders with the matching velocity:
-  // a frame that moved between updates neither jerks the cloth nor tunnels through it.
+  // of the update towards the current one across its substeps, colliders with the matching
+  // velocity: a frame that moved between updates neither jerks the cloth nor tunnels through it.
+  const auto reached = [reach](const Eigen::Isometry3d& from, const Eigen::Isometry3d& to) {
+    return reach >= 1.0 ? to : interpolate(from, to, reach);
+  };
   struct Moving {
     const TrackedCollider* collider;
     Eigen::Isometry3d from;
@@ -328,7 +337,7 @@ void SimNode::advance(int count, double h) {
     if (it != garments_.end()) attached.push_back({&it->second, &grasp.attachment});
   }
   for (int i = 0; i < count; ++i) {
-    const double alpha = static_cast<double>(i + 1) / count;
+    const double alpha = reach * (i + 1) / count;
     for (auto& [g, a] : attached) a->pinAt(*g->dynamics, alpha);
     for (auto& [name, hair] : hairs_) hair.clampAt(alpha);
     for (auto& [name, grasp] : hair_grasps_) grasp.gripAt(*hairs_.at(grasp.hair).body, alpha);
@@ -342,7 +351,7 @@ void SimNode::advance(int count, double h) {
           const Eigen::Isometry3d to = m.collider->world_from_frame;
           const Eigen::Isometry3d pose = interpolate(m.from, to, alpha);
           surfaces.push_back(m.collider->shape.makeSurface(pose));
-          velocities.push_back(rigidVelocity(m.from, to, duration));
+          velocities.push_back(rigidVelocity(m.from, to, span));
           velocities.back().origin = pose.translation();
         }
         setColliders(surfaces, velocities, frictions);
@@ -375,10 +384,11 @@ void SimNode::advance(int count, double h) {
     ++steps_;
   }
   // The next update starts where this one ended.
-  for (const auto& m : colliders) collider_from_[m.collider->name] = m.collider->world_from_frame;
-  for (auto& [g, a] : attached) a->from = a->to;
-  for (auto& [name, hair] : hairs_) hair.from = hair.to;
-  for (auto& [name, grasp] : hair_grasps_) grasp.from = grasp.to;
+  for (const auto& m : colliders)
+    collider_from_[m.collider->name] = reached(m.from, m.collider->world_from_frame);
+  for (auto& [g, a] : attached) a->from = reached(a->from, a->to);
+  for (auto& [name, hair] : hairs_) hair.from = reached(hair.from, hair.to);
+  for (auto& [name, grasp] : hair_grasps_) grasp.from = reached(grasp.from, grasp.to);
 }
 
 bool SimNode::lookupFrame(const std::string& frame, double timeout, Eigen::Isometry3d& pose,
@@ -463,7 +473,7 @@ void SimNode::publishGraspWrenches(double duration) {
     if (it == garments_.end()) continue;
     const chs::ClothDynamics& dyn = *it->second.dynamics;
     const std::vector<int>& held = grasp.attachment.vertices;
-    const Eigen::Isometry3d& frame = grasp.attachment.to;
+    const Eigen::Isometry3d& frame = grasp.attachment.from;  // where the update left it
     chs::HoldingWrench hold;
     if (grasp.samples > 0) {
       hold.force = grasp.sum.force / grasp.samples;
@@ -528,6 +538,7 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   if (!(elapsed > 0.0)) elapsed = period;
   if (paused_ || (garments_.empty() &&
                   hairs_.empty())) {  // keeps the substep of the last ~step for the status
+    input_lag_ = 0.0;
     last_.substeps = 0;
     last_.wall_per_step = last_.real_time_factor = 0.0;
     publishGraspWrenches(0.0);
@@ -554,8 +565,20 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   n = substep_cost_ > 0.0
           ? std::max(1, std::min(n, static_cast<int>(params_.max_update_wall / substep_cost_)))
           : 1;
+  // Behind real time, the inputs keep their real speed in simulated time: squeezed into fewer
+  // simulated seconds, a slow update (a rolled-back step) makes the next strike the cloth or
+  // hair faster than the robot moved, which slows it further. Their motion pending from earlier
+  // updates and this update's wall time is `span`; what the update does not simulate waits,
+  // up to ~max_input_lag.
+  double reach = 1.0;
+  if (params_.real_time_factor > 0.0) {
+    const double span = input_lag_ + params_.real_time_factor * elapsed;
+    reach = n * h >= (1.0 - 1e-9) * span ? 1.0 : n * h / span;
+    if (span * (1.0 - reach) > params_.max_input_lag) reach = 1.0 - params_.max_input_lag / span;
+    input_lag_ = span * (1.0 - reach);
+  }
   const Clock::time_point start = Clock::now();
-  advance(n, h);
+  advance(n, h, reach);
   const double wall = secondsSince(start);
   last_.dt = h;
   last_.substeps = n;

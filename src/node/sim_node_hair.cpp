@@ -148,7 +148,7 @@ void SimNode::publishHairGraspWrenches() {
   for (auto& [name, grasp] : hair_grasps_) {
     const auto it = hairs_.find(grasp.hair);
     if (it == hairs_.end()) continue;
-    const Eigen::Isometry3d& frame = grasp.to;
+    const Eigen::Isometry3d& frame = grasp.from;  // where the update left it
     // The mean over the update's substeps; nothing simulated (paused): the last step's. The
     // grip's reaction already carries the held vertices' inertia (HairDynamics::gripWrench).
     chs::HoldingWrench hold = it->second.body->gripWrench(grasp.grip, frame.translation());

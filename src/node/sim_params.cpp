@@ -77,6 +77,7 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   nh.param("real_time_factor", p.real_time_factor, p.real_time_factor);
   nh.param("max_substeps", p.max_substeps, p.max_substeps);
   nh.param("max_update_wall", p.max_update_wall, p.max_update_wall);
+  nh.param("max_input_lag", p.max_input_lag, p.max_input_lag);
   nh.param("status_rate", p.status_rate, p.status_rate);
   nh.param("marker_rate", p.marker_rate, p.marker_rate);
   nh.param("show_colliders", p.show_colliders, p.show_colliders);
@@ -104,6 +105,8 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
     throw chs::InputError("parameter ~real_time_factor must be >= 0 (0: as fast as possible)");
   if (p.max_substeps < 1) throw chs::InputError("parameter ~max_substeps must be at least 1");
   requirePositive("max_update_wall", p.max_update_wall);
+  if (!(p.max_input_lag >= 0.0) || !std::isfinite(p.max_input_lag))
+    throw chs::InputError("parameter ~max_input_lag must be >= 0 (0: no lag)");
   if (!(p.damping >= 0.0) || !std::isfinite(p.damping))
     throw chs::InputError("parameter ~damping must be >= 0");
   if (!(p.tf_timeout >= 0.0) || !std::isfinite(p.tf_timeout))

@@ -203,9 +203,9 @@ class HairContact(unittest.TestCase):
         t_lift = rospy.Time.now().to_sec()
         self.frames.set('gripper', lambda t: (LOCK_END[0], LOCK_END[1], LOCK_END[2] +
                                               0.05 * min(max(t - t_lift, 0.0), 3.0)))
-        time.sleep(3.2)
-        # The swing it took settles and is averaged in simulated time (the node may run slower
-        # than real time on a loaded machine).
+        # In simulated time: a node slower than real time moves the gripper at its real speed and
+        # lags its frame (~max_input_lag). The swing it took settles and is averaged.
+        self.run_for(3.2)
         self.run_for(1.5)
         f, n = grasp.window(1.5, self.sim_time)
         ft, _ = table.window(0.3, self.sim_time)
@@ -254,8 +254,8 @@ class HairContact(unittest.TestCase):
         t0 = rospy.Time.now().to_sec()
         x0, z0 = HEAD[0] + 0.06, HEAD[2] - 0.07
         self.frames.set('comb', lambda t: (x0 - 0.03 * min(max(t - t0, 0.0), 3.0), 0.0, z0))
-        time.sleep(1.5)
-        f, n = comb.window(1.5)
+        self.run_for(1.5)  # simulated time: the node moves the comb at its real speed
+        f, n = comb.window(1.5, self.sim_time)
         print('[figure] node: comb drawn sideways through %d hanging strands: wrench (%.4e, %.4e, '
               '%.4e) N (mean of %d), the hair weighs %.4e N' % (COMB_STRANDS, f[0], f[1], f[2], n,
                                                                COMB_HAIR_WEIGHT))
@@ -267,7 +267,7 @@ class HairContact(unittest.TestCase):
         # feels nothing.
         t2 = rospy.Time.now().to_sec()
         self.frames.set('comb', lambda t: (x0 - 0.09, 0.0, z0 - 0.03 * min(max(t - t2, 0.0), 4.0)))
-        time.sleep(4.2)
+        self.run_for(4.2)
         self.run_for(1.0)
         f, n = comb.window(0.5, self.sim_time)
         print('[figure] node: comb out of the hair: wrench (%.1e, %.1e, %.1e) N' % f)

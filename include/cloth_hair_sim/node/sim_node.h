@@ -134,8 +134,10 @@ class SimNode {
   // Under mutex_: colliders and attachment frames that jumped in this update of `duration`
   // simulated seconds (teleport.h) are teleported rather than swept (sim_node_teleport.cpp).
   void teleportJumps(double duration);
-  // Under mutex_: advances every garment by `count` substeps of h.
-  void advance(int count, double h);
+  // Under mutex_: advances every garment by `count` substeps of h, the kinematic inputs over
+  // the share `reach` of their way from their pose at the update's start to their current one
+  // (1: all of it; less when the simulation falls behind, see ~max_input_lag).
+  void advance(int count, double h, double reach = 1.0);
   // Under mutex_: one substep of one garment; a diverged step is rolled back and retried as two
   // halves, a few levels deep, before the garment is stopped where it was.
   void stepGarment(Garment& g, double h, int depth);
@@ -193,6 +195,7 @@ class SimNode {
   int unconverged_solves_ = 0;
   UpdateStats last_;
   double substep_cost_ = 0.0;  // [s] wall time per substep of the last update (0: not known)
+  double input_lag_ = 0.0;     // [s] of the kinematic inputs' motion not simulated yet
   std::atomic<bool> drape_running_{false};
   std::string drape_garment_;  // under mutex_: the garment of the running drape, and its start
   std::chrono::steady_clock::time_point drape_started_;

@@ -23,6 +23,11 @@ struct SimParams {
   // [s] an update takes no more substeps than fit in this much wall time at the last update's
   // cost per substep: it holds the simulation's mutex, so services wait for it.
   double max_update_wall = 0.05;
+  // [s] of their motion the kinematic inputs (colliders, frame pins, grasps, hair roots) may lag
+  // their tf frames when the simulation falls behind real time: they move at their real speed
+  // in simulated time and catch up later. Beyond it the rest of their motion is squeezed into
+  // the update, faster than real (0: always squeezed).
+  double max_input_lag = 2.0;
   double status_rate = 10.0;   // [Hz]
   double marker_rate = 10.0;   // [Hz]
   bool show_colliders = true;  // collider markers in the "colliders" namespace

@@ -56,6 +56,8 @@ HairDynamics::HairDynamics(const HairSettings& settings)
     throw InputError("hair: obstacle contact stiffness must be positive and finite");
   if (!(oc.slip_velocity > 0.0 && std::isfinite(oc.slip_velocity)))
     throw InputError("hair: obstacle slip_velocity (eps_v) must be positive and finite");
+  if (!(oc.recovery_speed > 0.0) || !std::isfinite(oc.recovery_speed))
+    throw InputError("hair: obstacle recovery_speed must be positive and finite");
   if (oc.lag_passes < 1) throw InputError("hair: obstacle lag_passes must be at least 1");
 }
 
@@ -440,8 +442,11 @@ void HairDynamics::transferFromGrid(double dt) {
         particles_.C[p] = scratch_.C[p];
         x = x_start + dt * v;  // (4.13)
         // A vertex ending inside an obstacle: the nodes' Coulomb projection as an impulse on
-        // it and the move redone, then any remaining depth removed from its position only
-        // (the free nodes above a vertex resting on a surface do not resist its fall).
+        // it and the move redone, then the remaining depth removed from its position only
+        // (the free nodes above a vertex resting on a surface do not resist its fall), by at
+        // most the recovery speed's share of the step: a deep vertex moved out at once would
+        // stretch its edges by its depth, and their recoil fling the strand.
+        const double recovery = dt * settings_.obstacle_contact.recovery_speed;
         for (std::size_t c = 0; c < surfaces_.size(); ++c) {
           const SurfaceProjection pr = surfaces_[c]->project(x);
           if (pr.gap >= 0.0) continue;
@@ -456,7 +461,7 @@ void HairDynamics::transferFromGrid(double dt) {
             x = x_start + dt * v;
           }
           const double gap = surfaces_[c]->project(x).gap;
-          if (gap < 0.0) x -= gap * pr.normal;
+          if (gap < 0.0) x -= std::max(gap, -recovery) * pr.normal;
         }
       }
       particles_.v[p] = v;

@@ -38,7 +38,10 @@ void ObstacleContact::updateLag(const Eigen::VectorXd& q, double reach,
       c.obstacle_motion = dt_ * obstacles_[o].velocity.at(x_start_[i]);
       c.gap = normalGap(c, x, &c.normal);
       if (c.gap >= distance_ + reach) continue;
-      c.normal_force = settings_.stiffness * std::max(0.0, distance_ - c.gap);
+      // The start's distance from the obstacle before its motion.
+      const double start_gap = obstacles_[o].surface->project(x_start_[i]).gap;
+      c.rest_distance = std::min(distance_, start_gap + dt_ * settings_.recovery_speed);
+      c.normal_force = settings_.stiffness * std::max(0.0, c.rest_distance - c.gap);
       contacts_.push_back(c);
     }
   }
@@ -58,7 +61,7 @@ double ObstacleContact::contactEnergy(const LaggedContact& c, const Vec3& x) con
   // A centreline crossing into the obstacle is refused (the line search shortens the step)
   // unless the lag already had it there.
   if (gap < 0.0 && c.gap >= 0.0) return std::numeric_limits<double>::infinity();
-  const double depth = distance_ - gap;
+  const double depth = c.rest_distance - gap;
   if (depth > 0.0) e += 0.5 * settings_.stiffness * depth * depth;
   const double mu_lambda = obstacles_[c.obstacle].friction * c.normal_force;
   if (mu_lambda > 0.0) {
@@ -75,7 +78,7 @@ void ObstacleContact::contactDerivatives(const LaggedContact& c, const Vec3& x, 
   g.setZero();
   if (h) h->setZero();
   Vec3 n;
-  const double depth = distance_ - normalGap(c, x, &n);
+  const double depth = c.rest_distance - normalGap(c, x, &n);
   if (depth > 0.0) {
     g -= settings_.stiffness * depth * n;
     if (h) *h += settings_.stiffness * n * n.transpose();

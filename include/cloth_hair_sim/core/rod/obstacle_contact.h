@@ -22,6 +22,13 @@ struct ObstacleContactSettings {
   // Passes of the lagged normal forces per step: each re-solves the strand with the normal
   // forces and normals of the previous pass (the first: of the step's start).
   int lag_passes = 3;
+  // [m/s] A vertex that starts the step deeper than the contact distance (the obstacle jumped,
+  // or the strand was held still while it moved on) is pushed out at most this fast beyond the
+  // obstacle's own motion (as a rigid-body engine's depenetration speed): the stiff implicit
+  // penalty would push it out within the step, at depth / dt, which at small steps exceeds any
+  // real speed and flings the strand. The step's end removes depth from positions no faster
+  // (HairDynamics::transferFromGrid).
+  double recovery_speed = 0.1;
 };
 
 // An obstacle as a strand's implicit solve sees it: its signed distance, its motion over the
@@ -39,6 +46,9 @@ struct LaggedContact {
   int obstacle = 0;
   double normal_force = 0.0;  // lambda [N]
   double gap = 0.0;           // the vertex's signed distance from the obstacle at the lag
+  // Where the penalty rests the vertex: the contact distance d, or less for a vertex that
+  // started the step deeper (ObstacleContactSettings::recovery_speed).
+  double rest_distance = 0.0;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();          // n, outward
   Eigen::Vector3d obstacle_motion = Eigen::Vector3d::Zero();  // dt v_obstacle at the vertex
 };
@@ -48,7 +58,9 @@ struct LaggedContact {
 // build along a strand held by it (the capstan). Per contact, with d the contact distance (the
 // strand's radius: the centreline rests a radius off the surface) and g the signed distance of
 // the vertex from the obstacle moved by its step's motion:
-//   normal    k / 2 (d - g)^2 for g < d (lambda = k (d - g) is the normal force),
+//   normal    k / 2 (d_c - g)^2 for g < d_c (lambda = k (d_c - g) is the normal force), with
+//             d_c = min(d, g_0 + dt v_r), g_0 the vertex's distance at the step's start and v_r
+//             the recovery speed (d_c = d but for a vertex that starts inside),
 //   friction  mu lambda f0(|P (x - x^n - dt v_obstacle)|), P = I - n n^T,
 // IPC's smoothed friction dissipation potential (Li et al. 2020, (14)-(17)) with
 // f0(y) = -y^3 / (3 e^2) + y^2 / e + e / 3 for y < e = eps_v dt, y beyond: its gradient is

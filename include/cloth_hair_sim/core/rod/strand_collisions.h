@@ -35,7 +35,8 @@ namespace chs::rod {
 struct StrandCollisionSettings {
   // Off by default for now: in a pile the impact zones fire in most steps and hold the pile
   // still for them, the strands' Newton solves take ~10 times longer, and a lock lifted by the
-  // node's grasp read its weight 2.36e-4 N off (weight 1.28e-4 N) with them on (docs/VALIDATION.md).
+  // node's grasp read its weight 2.36e-4 N off (weight 1.28e-4 N) with them on
+  // (docs/VALIDATION.md).
   bool enabled = false;
   // Contact distance between centrelines [m]; <= 0: twice the largest strand radius.
   double thickness = 0.0;
