@@ -550,7 +550,8 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   int n = params_.max_substeps;
   double h = h_max;
   if (params_.real_time_factor > 0.0) {
-    const double target = params_.real_time_factor * budget;
+    // With the inputs' motion still pending from earlier updates (input_lag_): caught up.
+    const double target = params_.real_time_factor * budget + input_lag_;
     const double needed = std::ceil(target / h_max - 1e-9);
     if (needed <= params_.max_substeps) {
       n = std::max(1, static_cast<int>(needed));
@@ -569,7 +570,8 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   // simulated seconds, a slow update (a rolled-back step) makes the next strike the cloth or
   // hair faster than the robot moved, which slows it further. Their motion pending from earlier
   // updates and this update's wall time is `span`; what the update does not simulate waits,
-  // up to ~max_input_lag.
+  // up to ~max_input_lag, for later updates to catch up (they simulate it on top of their own
+  // time while their substeps allow).
   double reach = 1.0;
   if (params_.real_time_factor > 0.0) {
     const double span = input_lag_ + params_.real_time_factor * elapsed;
@@ -601,6 +603,7 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
     s.substeps = last_.substeps;
     s.wall_time_per_step = last_.wall_per_step;
     s.real_time_factor = last_.real_time_factor;
+    s.input_lag = input_lag_;
     s.garments = static_cast<int>(garments_.size());
     s.colliders = colliders_.activeCount();
     s.dynamics_backend = params_.dynamics_backend;

@@ -137,11 +137,14 @@ class HairContact(unittest.TestCase):
     def tearDownClass(cls):
         cls.frames.stop()
 
+    max_lag = 0.0  # the most the node's inputs lagged their frames, seen in ~status
+
     def sim_time(self):
         deadline = time.time() + 30.0
         while time.time() < deadline:
             s = self.status.get()
             if s is not None:
+                HairContact.max_lag = max(HairContact.max_lag, s.input_lag)
                 return s.sim_time
             time.sleep(0.05)
         self.fail('no ~status')
@@ -270,7 +273,9 @@ class HairContact(unittest.TestCase):
         self.run_for(4.2)
         self.run_for(1.0)
         f, n = comb.window(0.5, self.sim_time)
-        print('[figure] node: comb out of the hair: wrench (%.1e, %.1e, %.1e) N' % f)
+        print('[figure] node: comb out of the hair: wrench (%.1e, %.1e, %.1e) N; the inputs lagged '
+              'their frames by up to %.3f s (~max_input_lag 0.5 s)' % (f + (HairContact.max_lag,)))
+        self.assertLessEqual(HairContact.max_lag, 0.5 + 1e-9)
         self.assertLess(math.sqrt(sum(c * c for c in f)), 1e-3 * COMB_HAIR_WEIGHT)
         comb.close()
         self.assertTrue(self.remove(name='scalp').success)

@@ -27,7 +27,7 @@ struct SimParams {
   // their tf frames when the simulation falls behind real time: they move at their real speed
   // in simulated time and catch up later. Beyond it the rest of their motion is squeezed into
   // the update, faster than real (0: always squeezed).
-  double max_input_lag = 2.0;
+  double max_input_lag = 0.5;
   double status_rate = 10.0;   // [Hz]
   double marker_rate = 10.0;   // [Hz]
   bool show_colliders = true;  // collider markers in the "colliders" namespace
