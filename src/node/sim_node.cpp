@@ -560,8 +560,8 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   }
   // No more substeps than fit in max_update_wall at the last update's cost: the update holds
   // mutex_, and a service call waiting for it (load_garment, list_garments, grasp) would
-  // otherwise wait for max_substeps of a slow world, seconds. The kinematic inputs still reach
-  // their current pose over the substeps taken: the simulation falls behind, it does not jerk.
+  // otherwise wait for max_substeps of a slow world, seconds. The simulation falls behind, and
+  // the kinematic inputs with it (below): it does not jerk.
   // A cost not known yet (the first update, a garment just loaded) is probed with one substep.
   n = substep_cost_ > 0.0
           ? std::max(1, std::min(n, static_cast<int>(params_.max_update_wall / substep_cost_)))

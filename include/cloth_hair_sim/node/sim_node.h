@@ -178,8 +178,9 @@ class SimNode {
   std::map<std::string, ros::Publisher> collider_wrench_pubs_;
   std::map<std::string, Grasp> grasps_;
   std::map<std::string, HairGrasp> hair_grasps_;  // names unique with grasps_
-  // Collider poses at the start of the current update: colliders move from there to their
-  // current pose over the update's substeps, with the velocity that takes.
+  // Collider poses at the start of the current update: colliders move from there towards their
+  // current pose over the update's substeps (all the way unless the inputs lag), with the
+  // velocity of that motion.
   std::map<std::string, Eigen::Isometry3d> collider_from_;
   // [s] frame pins and grasps follow their frames this far in the past (~tf_delay), where tf
   // interpolates: sampled at the latest stamp, a frame would advance by one or two of its
