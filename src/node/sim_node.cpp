@@ -515,17 +515,7 @@ void SimNode::publishGraspWrenches(double duration) {
 }
 
 std::vector<std::string> SimNode::dropGrasps(const std::string& garment) {
-  std::vector<std::string> names;
-  for (auto it = grasps_.begin(); it != grasps_.end();) {
-    if (it->second.garment == garment) {
-      names.push_back(it->first);
-      it->second.wrench_pub.shutdown();
-      it = grasps_.erase(it);
-    } else {
-      ++it;
-    }
-  }
-  return names;
+  return dropGraspsOf(grasps_, garment, [](const Grasp& g) { return g.garment; });
 }
 
 void SimNode::onStepTimer(const ros::TimerEvent& event) {

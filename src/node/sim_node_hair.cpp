@@ -130,17 +130,7 @@ void SimNode::graspHair(const cloth_hair_sim::GraspGarment::Request& req,
 }
 
 std::vector<std::string> SimNode::dropHairGrasps(const std::string& hair) {
-  std::vector<std::string> names;
-  for (auto it = hair_grasps_.begin(); it != hair_grasps_.end();) {
-    if (it->second.hair == hair) {
-      names.push_back(it->first);
-      it->second.wrench_pub.shutdown();
-      it = hair_grasps_.erase(it);
-    } else {
-      ++it;
-    }
-  }
-  return names;
+  return dropGraspsOf(hair_grasps_, hair, [](const HairGrasp& g) { return g.hair; });
 }
 
 void SimNode::publishHairGraspWrenches() {

@@ -11,9 +11,10 @@
 namespace chs_node {
 
 // Garment vertices carried by a tf frame (a gripper, or pins given at load time). Within an
-// update the frame moves from `from` to `to` (the poses at the previous and the current
-// lookup); each substep pins the vertices at the interpolated pose, so a frame that moved
-// between updates does not jerk the cloth in one substep.
+// update the frame moves from `from` (where the last update left it) towards `to` (the current
+// lookup; all the way unless the node's inputs lag); each substep pins the vertices at the
+// interpolated pose, so a frame that moved between updates does not jerk the cloth in one
+// substep.
 struct FrameAttachment {
   std::string frame_id;
   std::vector<int> vertices;
@@ -45,6 +46,23 @@ struct Grasp {
   chs::HoldingWrench sum;
   int samples = 0;
 };
+
+// Removes the grasps (a map from name to Grasp or HairGrasp) whose body, as body_of gives it, is
+// `body`, closing their wrench topics; returns their names.
+template <class Grasps, class BodyOf>
+std::vector<std::string> dropGraspsOf(Grasps& grasps, const std::string& body, BodyOf body_of) {
+  std::vector<std::string> names;
+  for (auto it = grasps.begin(); it != grasps.end();) {
+    if (body_of(it->second) == body) {
+      names.push_back(it->first);
+      it->second.wrench_pub.shutdown();
+      it = grasps.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return names;
+}
 
 // Pose at fraction t in [0, 1] from a to b: translation lerp, rotation slerp.
 Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double t);
