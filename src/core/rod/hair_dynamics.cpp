@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/mpm/grid_forces.h"
 #include "cloth_hair_sim/core/mpm/grid_interpolation.h"
 #include "cloth_hair_sim/core/mpm/transfers.h"
 #include "cloth_hair_sim/core/rod/parallel_transport.h"
@@ -22,7 +23,7 @@ struct HairSnapshot : DynamicsSnapshot {
   std::vector<std::vector<double>> omega;
   std::vector<Eigen::Isometry3d> poses;
   std::map<int, Eigen::Isometry3d> grip_motions;
-  std::vector<Eigen::Matrix3d> C;
+  std::vector<Eigen::Matrix3d> C, F;
   double time = 0.0;
 };
 
@@ -59,6 +60,16 @@ HairDynamics::HairDynamics(const HairSettings& settings)
   if (!(oc.recovery_speed > 0.0) || !std::isfinite(oc.recovery_speed))
     throw InputError("hair: obstacle recovery_speed must be positive and finite");
   if (oc.lag_passes < 1) throw InputError("hair: obstacle lag_passes must be at least 1");
+  try {  // checked even when disabled: a typo is reported before someone enables it
+    bulk_.emplace(settings.continuum.youngs_modulus, settings.continuum.poisson_ratio);
+    bulk_return_.emplace(*bulk_, settings.continuum.friction);
+  } catch (const InputError& e) {
+    throw InputError(std::string("hair: strand continuum: ") + e.what());
+  }
+  if (!settings.continuum.enabled) {
+    bulk_.reset();
+    bulk_return_.reset();
+  }
 }
 
 int HairDynamics::addStrand(const std::vector<Vec3>& rest, const RodMaterial& material,
@@ -88,10 +99,15 @@ int HairDynamics::addStrand(const std::vector<Vec3>& rest, const RodMaterial& ma
   s.root_x1 = rest[1];
   s.root_m1 = s.rod.materialDirector1(0);
   s.offset = particles_.size();
+  // A vertex's share of the strands' bulk (Han's V_p^0) is its own volume, m / rho: the
+  // continuum's force per mass then does not depend on how densely the strands lie.
+  const double density = s.rod.material().density;
   for (int i = 0; i < nv; ++i) {
     const bool held = clamped && i < 2;
-    particles_.add(rest[i], Vec3::Zero(), held ? 0.0 : s.rod.vertexMass(i), 0.0);
+    const double m = held ? 0.0 : s.rod.vertexMass(i);
+    particles_.add(rest[i], Vec3::Zero(), m, m / density);
   }
+  if (bulk_) bulk_wave_speed_ = std::max(bulk_wave_speed_, bulk_->dilatationalWaveSpeed(density));
   strands_.push_back(std::move(s));
   return index;
 }
@@ -407,7 +423,46 @@ void HairDynamics::transferToGrid() {
   grid_v_star_ = grid_.velocity;
 }
 
-bool HairDynamics::updateGrid(double /*dt*/) {
+bool HairDynamics::updateGrid(double dt) {
+  last_continuum_ = StrandContinuumStats();
+  if (bulk_) {
+    // Han (4.10)-(4.11): f_i = -sum_p V_p^0 tau(F_p^E) grad w_ip (the Kirchhoff form of P F^T;
+    // gravity is in the Lagrangian update), v_i += h f_i / m_i, then F^E moved by the grid's
+    // velocity gradient and returned to the cone, in substeps h <= cfl dx / c of the bulk's wave
+    // on the step's grid (the nodes moved virtually, as Han's x_i + alpha dt v_i): the penalty
+    // can then be stiff enough to stop strands moving at a fraction of c without shrinking the
+    // world's step; a substep costs a transfer, no rod solve. The last substep's F^E update
+    // waits for the grid's final velocity (after obstacles and other bodies), in
+    // transferFromGrid.
+    const double courant = settings_.cfl * settings_.grid_spacing;
+    const int n = std::clamp(static_cast<int>(std::ceil(dt * bulk_wave_speed_ / courant)), 1,
+                             kMaxBulkSubsteps);
+    bulk_substep_ = dt / n;
+    last_continuum_.substeps = n;
+    bulk_scratch_ = particles_;
+    bulk_stress_.resize(particles_.size());
+    for (int k = 0; k < n; ++k) {
+      if (k > 0) {
+        bulk_scratch_.x = particles_.x;  // the support's stencils are at the step start
+        mpm::gridToParticle(grid_, bulk_scratch_, settings_.kernel_degree, 0.0, bulk_substep_,
+                            &supports_[0]);
+        returnToCone(bulk_scratch_.F, false);
+      }
+      tbb::parallel_for(0, particles_.size(), [&](int p) {
+        const double V = particles_.volume0[p];
+        bulk_stress_[p] = V > 0.0 ? Eigen::Matrix3d(V * bulk_->kirchhoffStress(bulk_scratch_.F[p]))
+                                  : Eigen::Matrix3d::Zero();
+      });
+      std::fill(grid_.force.begin(), grid_.force.end(), Vec3::Zero());
+      mpm::scatterStressForces(grid_, particles_.x, bulk_stress_, settings_.kernel_degree,
+                               &supports_[0]);
+      for (int i = 0; i < grid_.size(); ++i) {
+        if (grid_.mass[i] <= 0.0) continue;  // a dropped node (transferToGrid): nothing to move
+        grid_.momentum[i] += bulk_substep_ * grid_.force[i];
+        grid_.velocity[i] = grid_.momentum[i] / grid_.mass[i];
+      }
+    }
+  }
   mpm::applyGridColliders(grid_, colliders_, &collider_impulse_);
   return converged_;
 }
@@ -424,9 +479,15 @@ void HairDynamics::transferFromGrid(double dt) {
   mpm::interpolateNodeField(grid_, grid_dv_, particles_.x, settings_.kernel_degree, supports_[0],
                             &dv_p_, nullptr);
   scratch_ = particles_;
-  mpm::gridToParticle(grid_, scratch_, settings_.kernel_degree, 0.0, dt, &supports_[0]);
+  if (bulk_) scratch_.F = bulk_scratch_.F;  // F^E before the last substep (updateGrid)
+  mpm::gridToParticle(grid_, scratch_, settings_.kernel_degree, 0.0, bulk_ ? bulk_substep_ : dt,
+                      &supports_[0]);
   const double xi = settings_.pic_blend;
   x_start_ = particles_.x;
+  if (bulk_) {
+    returnToCone(scratch_.F, true);
+    particles_.F = scratch_.F;
+  }
   for (Strand& s : strands_) {
     DiscreteElasticRod& rod = s.rod;
     for (int i = 0; i < rod.numVertices(); ++i) {
@@ -506,6 +567,35 @@ void HairDynamics::transferFromGrid(double dt) {
   }
 }
 
+// The trial F^E of every vertex returned to the Drucker-Prager cone in place; held vertices
+// carry none. `last`: the step's final return, counted in the stats (resets in any substep).
+void HairDynamics::returnToCone(std::vector<Eigen::Matrix3d>& F, bool last) {
+  for (const Strand& s : strands_)
+    for (int i = 0; i < s.rod.numVertices(); ++i) {
+      const int p = s.offset + i;
+      Eigen::Matrix3d& f = F[p];
+      if (held(s, i) || particles_.volume0[p] <= 0.0) {
+        f.setIdentity();
+      } else if (!f.allFinite() || !(f.determinant() > 0.0)) {
+        f.setIdentity();
+        ++last_continuum_.reset;
+      } else {
+        mpm::DruckerPrager::Case c;
+        f = bulk_return_->project(f, &c);
+        if (!last) continue;
+        last_continuum_.compressed += c != mpm::DruckerPrager::Case::kSeparated;
+        last_continuum_.slid += c == mpm::DruckerPrager::Case::kSlid;
+      }
+    }
+}
+
+const Eigen::Matrix3d& HairDynamics::bulkDeformation(int s, int i) const {
+  checkStrand(s);
+  if (i < 0 || i >= strands_[s].rod.numVertices())
+    throw InputError("hair: no vertex " + std::to_string(i) + " on strand " + std::to_string(s));
+  return particles_.F[strands_[s].offset + i];
+}
+
 double HairDynamics::strandThickness() const {
   if (settings_.strand_collisions.thickness > 0.0) return settings_.strand_collisions.thickness;
   double r = 0.0;
@@ -529,7 +619,11 @@ double HairDynamics::stableTimeStep() const {
   for (const Strand& s : strands_)
     for (const Vec3& v : s.v) vmax = std::max(vmax, v.norm());
   const double cfl = settings_.cfl * settings_.grid_spacing;
-  return vmax > 0.0 ? std::min(settings_.max_time_step, cfl / vmax) : settings_.max_time_step;
+  double dt = settings_.max_time_step;
+  if (vmax > 0.0) dt = std::min(dt, cfl / vmax);
+  // The continuum's substeps stay within their cap (updateGrid).
+  if (bulk_wave_speed_ > 0.0) dt = std::min(dt, kMaxBulkSubsteps * cfl / bulk_wave_speed_);
+  return dt;
 }
 
 Vec3 HairDynamics::linearMomentum() const {
@@ -584,6 +678,7 @@ std::unique_ptr<DynamicsSnapshot> HairDynamics::snapshot() const {
   }
   for (const auto& [id, g] : grips_) s->grip_motions[id] = g.motion;
   s->C = particles_.C;
+  s->F = particles_.F;
   s->time = time_;
   return s;
 }
@@ -612,6 +707,7 @@ void HairDynamics::restore(const DynamicsSnapshot& snapshot) {
     if (it != s->grip_motions.end()) g.motion = it->second;
   }
   particles_.C = s->C;
+  particles_.F = s->F;
   time_ = s->time;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 #include <map>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -8,7 +9,9 @@
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/dynamics/holding_wrench.h"
+#include "cloth_hair_sim/core/mpm/drucker_prager.h"
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
+#include "cloth_hair_sim/core/mpm/hencky_solid.h"
 #include "cloth_hair_sim/core/mpm/mpm_particles.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
 #include "cloth_hair_sim/core/mpm/support_nodes.h"
@@ -20,6 +23,40 @@
 #include "cloth_hair_sim/core/world/body.h"
 
 namespace chs::rod {
+
+// Han (4.3)-(4.6), (4.10)-(4.11): the strands' frictional contact with each other as a granular
+// continuum on the grid. Each free vertex carries an elastic deformation gradient F^E of the
+// hair's bulk (not of its strand), moved by the grid's velocity gradient; the St.Venant-Kirchhoff
+// Hencky energy (mpm/hencky_solid.h) of F^E pushes converging strands apart on the grid, and the
+// cohesionless Drucker-Prager return (mpm/drucker_prager.h) lets them separate freely and slide
+// on each other with Coulomb friction c_F. The grid update is explicit in substeps within the
+// world's step (HairDynamics::updateGrid): the bulk's dilatational wave, c = sqrt((lambda +
+// 2 mu) / rho_hair) with the strands' own density, sets their number, ceil(dt c / (cfl dx)).
+// The modulus is a contact penalty, not a property of hair: stiffer stops faster strands in a
+// shorter distance, at more substeps. The strands meet at about a grid cell ("visible
+// separation if dx is too large", Han section 5.6).
+// Off by default: the grid holds the bulk's velocity, not each strand's within a cell, so it
+// stops strands that interleave within a cell only when their velocities take the grid's, with
+// Han's blend pic_blend = 0.95 (test_rod_continuum: crossed bundles closing at 0.6 m/s, 0
+// missed crossings and thrown back at xi = 0.95, 3912 at xi = 0, 7700 without the continuum).
+// That blend stretches strands whose segments are shorter than dx (see pic_blend) and glues
+// bundles flying apart within a kernel; the default pic_blend = 0 keeps single strands exact.
+struct StrandContinuumSettings {
+  bool enabled = false;
+  double youngs_modulus = 1000.0;  // [Pa]
+  double poisson_ratio = 0.3;
+  double friction = 0.3;  // c_F between strands
+};
+
+// What the continuum did in the last step.
+struct StrandContinuumStats {
+  int substeps = 0;    // of the grid update (the bulk's wave)
+  int compressed = 0;  // vertices whose bulk resists compression (elastic or sliding)
+  int slid = 0;        // of which on the friction cone (sliding)
+  // Vertices whose F^E the grid inverted or flattened (a step beyond its bound): reset to no
+  // strain, so that one bad step does not poison the next.
+  int reset = 0;
+};
 
 struct HairSettings {
   double grid_spacing = 0.01;  // dx [m]: the world's
@@ -45,6 +82,7 @@ struct HairSettings {
   // new velocities, between all segments of all strands of this body (off by default: see
   // StrandCollisionSettings::enabled; without them strands pass through each other).
   StrandCollisionSettings strand_collisions;
+  StrandContinuumSettings continuum;
   int max_vertices = 1000000;  // over all strands; more is refused (memory, a typo in a groom)
 };
 
@@ -59,7 +97,8 @@ struct HairSettings {
 //   transferToGrid   APIC transfer of the vertices' mass and momentum m v* to the field (4.8-4.9)
 //                    from their step-start positions; clamped vertices carry no mass there (the
 //                    scalp's motion is a boundary condition, not momentum).
-//   updateGrid       the obstacles' Coulomb conditions on the nodes inside them (grid_collider.h).
+//   updateGrid       the strand continuum's stress onto the nodes (4.10, symplectic), then the
+//                    obstacles' Coulomb conditions on the nodes inside them (grid_collider.h).
 //   [world]          contact with other bodies' fields (world/field_contact.h).
 //   transferFromGrid the change of grid velocity back to the vertices, blended with xi (4.12);
 //                    then each vertex that still ends inside an obstacle
@@ -68,13 +107,13 @@ struct HairSettings {
 //                    proximity, continuous collisions in Jacobi passes, rigid impact zones) so
 //                    that no segment passes through another over the step; positions move,
 //                    x^{n+1} = x^n + dt v^{n+1} (4.13), a vertex moved by the impulses into an
-//                    obstacle put back on its surface; the rod's frames are transported there.
+//                    obstacle put back on its surface; the rod's frames are transported there;
+//                    F^E moved by the grid's velocity gradient and returned to the cone.
 // Gravity acts in the Lagrangian update rather than on the grid as in Han (4.10): a stiff strand
 // solved implicitly without it would spring back each step from the sag the grid's gravity gave
 // it, and the hanging shape would lag by dt^2 g.
-// Not yet: the Hencky friction elastoplasticity between strands on the grid (4.3-4.6, 4.10-4.11);
-// strands meet each other through the geometric impulses only (other bodies' fields they meet
-// through the world).
+// Strands of this body meet each other through the continuum (and the impulses, when enabled);
+// other bodies' fields they meet through the world.
 // One vertex of one strand.
 struct StrandVertex {
   int strand = 0;
@@ -136,6 +175,10 @@ class HairDynamics : public Body {
   int lastNewtonIterations() const { return last_iterations_; }
   // The strand-strand collision stage of the last step (zero when disabled).
   const StrandCollisionStats& lastStrandCollisions() const { return last_collisions_; }
+  const StrandContinuumStats& lastContinuum() const { return last_continuum_; }
+  // Elastic deformation gradient of the strands' bulk at strand s's vertex i (identity when
+  // the continuum is disabled or the vertex is held).
+  const Eigen::Matrix3d& bulkDeformation(int s, int i) const;
   // The contact distance between centrelines the collision stage uses [m].
   double strandThickness() const;
 
@@ -192,6 +235,7 @@ class HairDynamics : public Body {
   const Grip& grip(int id) const;
   bool held(const Strand& s, int i) const { return (s.clamped && i < 2) || s.grip[i] >= 0; }
   void solveStrandStep(Strand& strand, double dt, StrandNewtonResult& result);
+  void returnToCone(std::vector<Eigen::Matrix3d>& F, bool last);
 
   HairSettings settings_;
   std::vector<Strand> strands_;
@@ -208,6 +252,13 @@ class HairDynamics : public Body {
   int next_grip_ = 0;
   StrandCollisions collisions_;
   StrandCollisionStats last_collisions_;
+  std::optional<mpm::HenckySolid> bulk_;
+  std::optional<mpm::DruckerPrager> bulk_return_;
+  static constexpr int kMaxBulkSubsteps = 256;
+  double bulk_wave_speed_ = 0.0, bulk_substep_ = 0.0;
+  mpm::Particles bulk_scratch_;
+  std::vector<Eigen::Matrix3d> bulk_stress_;
+  StrandContinuumStats last_continuum_;
   std::vector<Eigen::Vector3d> x_start_, v_free_;
   std::vector<double> inverse_mass_;
   std::vector<int> strand_offsets_;
