@@ -11,6 +11,7 @@
 #include "cloth_hair_sim/core/mpm/grid_interpolation.h"
 #include "cloth_hair_sim/core/mpm/transfers.h"
 #include "cloth_hair_sim/core/rod/parallel_transport.h"
+#include "cloth_hair_sim/core/rod/strand_contact_share.h"
 
 namespace chs::rod {
 namespace {
@@ -60,6 +61,8 @@ HairDynamics::HairDynamics(const HairSettings& settings)
   if (!(oc.recovery_speed > 0.0) || !std::isfinite(oc.recovery_speed))
     throw InputError("hair: obstacle recovery_speed must be positive and finite");
   if (oc.lag_passes < 1) throw InputError("hair: obstacle lag_passes must be at least 1");
+  if (!(settings.continuum.contact_blend >= 0.0 && settings.continuum.contact_blend <= 1.0))
+    throw InputError("hair: strand continuum: contact_blend (xi in contact) must lie in [0, 1]");
   try {  // checked even when disabled: a typo is reported before someone enables it
     bulk_.emplace(settings.continuum.youngs_modulus, settings.continuum.poisson_ratio);
     bulk_return_.emplace(*bulk_, settings.continuum.friction);
@@ -439,6 +442,13 @@ bool HairDynamics::updateGrid(double dt) {
                              kMaxBulkSubsteps);
     bulk_substep_ = dt / n;
     last_continuum_.substeps = n;
+    // A strand's own vertices are no contact: the stress acts in the share of the grid mass
+    // that other strands bring (a strand alone bends and swings as without the continuum).
+    strand_offsets_.clear();
+    for (const Strand& s : strands_) strand_offsets_.push_back(s.offset);
+    strand_offsets_.push_back(particles_.size());
+    bulk_share_ = otherStrandsShare(grid_, particles_.x, particles_.mass, strand_offsets_,
+                                    settings_.kernel_degree, supports_[0]);
     bulk_scratch_ = particles_;
     bulk_stress_.resize(particles_.size());
     for (int k = 0; k < n; ++k) {
@@ -449,7 +459,7 @@ bool HairDynamics::updateGrid(double dt) {
         returnToCone(bulk_scratch_.F, false);
       }
       tbb::parallel_for(0, particles_.size(), [&](int p) {
-        const double V = particles_.volume0[p];
+        const double V = bulk_share_[p] * particles_.volume0[p];
         bulk_stress_[p] = V > 0.0 ? Eigen::Matrix3d(V * bulk_->kirchhoffStress(bulk_scratch_.F[p]))
                                   : Eigen::Matrix3d::Zero();
       });
@@ -499,7 +509,15 @@ void HairDynamics::transferFromGrid(double dt) {
         x = x_start + dt * v;
         particles_.C[p].setZero();
       } else {
-        v = (1.0 - xi) * (particles_.v[p] + dv_p_[p]) + xi * scratch_.v[p];
+        const Vec3 v_flip = particles_.v[p] + dv_p_[p], to_grid = scratch_.v[p] - v_flip;
+        v = v_flip + xi * to_grid;
+        if (bulk_ && bulk_compressed_[p] && bulk_share_[p] > 0.0) {
+          // Pressed into other strands: across the strand, the bulk's velocity (contact_blend).
+          const int a = std::max(i - 1, 0), b = std::min(i + 1, rod.numVertices() - 1);
+          const Vec3 t = (x_start_[s.offset + b] - x_start_[s.offset + a]).normalized();
+          const Vec3 across = to_grid - t * t.dot(to_grid);
+          v += (settings_.continuum.contact_blend - xi) * bulk_share_[p] * across;
+        }
         particles_.C[p] = scratch_.C[p];
         x = x_start + dt * v;  // (4.13)
         // A vertex ending inside an obstacle: the nodes' Coulomb projection as an impulse on
@@ -570,6 +588,7 @@ void HairDynamics::transferFromGrid(double dt) {
 // The trial F^E of every vertex returned to the Drucker-Prager cone in place; held vertices
 // carry none. `last`: the step's final return, counted in the stats (resets in any substep).
 void HairDynamics::returnToCone(std::vector<Eigen::Matrix3d>& F, bool last) {
+  if (last) bulk_compressed_.assign(F.size(), 0);
   for (const Strand& s : strands_)
     for (int i = 0; i < s.rod.numVertices(); ++i) {
       const int p = s.offset + i;
@@ -583,6 +602,7 @@ void HairDynamics::returnToCone(std::vector<Eigen::Matrix3d>& F, bool last) {
         mpm::DruckerPrager::Case c;
         f = bulk_return_->project(f, &c);
         if (!last) continue;
+        bulk_compressed_[p] = c != mpm::DruckerPrager::Case::kSeparated;
         last_continuum_.compressed += c != mpm::DruckerPrager::Case::kSeparated;
         last_continuum_.slid += c == mpm::DruckerPrager::Case::kSlid;
       }

@@ -35,17 +35,25 @@ namespace chs::rod {
 // The modulus is a contact penalty, not a property of hair: stiffer stops faster strands in a
 // shorter distance, at more substeps. The strands meet at about a grid cell ("visible
 // separation if dx is too large", Han section 5.6).
-// Off by default: the grid holds the bulk's velocity, not each strand's within a cell, so it
-// stops strands that interleave within a cell only when their velocities take the grid's, with
-// Han's blend pic_blend = 0.95 (test_rod_continuum: crossed bundles closing at 0.6 m/s, 0
-// missed crossings and thrown back at xi = 0.95, 3912 at xi = 0, 7700 without the continuum).
-// That blend stretches strands whose segments are shorter than dx (see pic_blend) and glues
-// bundles flying apart within a kernel; the default pic_blend = 0 keeps single strands exact.
+// The grid holds the bulk's velocity, not each strand's within a cell, so it stops strands that
+// interleave within a cell only where their velocities take the grid's: contact_blend below
+// (test_rod_continuum: crossed bundles 7 mm thick on a 4 mm grid closing at 0.6 m/s, 0 missed
+// crossings and thrown back; 3928 with the continuum at xi = 0 alone, 7700 without it). A
+// strand's own vertices are no contact: the stress and the blend act in the share of the grid
+// mass that other strands bring, so a strand alone is exactly as without the continuum.
+// Off by default: bundles thinner than a cell are not resolved (Han's Fig. 4.7 scaled to 3 mm
+// bundles on a 1 cm grid: 272 crossings against 256 without; Han's xi = 0.95 everywhere, 58).
 struct StrandContinuumSettings {
   bool enabled = false;
   double youngs_modulus = 1000.0;  // [Pa]
   double poisson_ratio = 0.3;
   double friction = 0.3;  // c_F between strands
+  // xi of (4.12) across the strand for a vertex whose bulk is compressed (pressed into other
+  // strands), scaled by the share of the grid mass around it that other strands bring
+  // (strand_contact_share.h); along the strand, apart and alone, pic_blend holds. The grid's
+  // velocity is then the bulk's where strands press into each other (Han's 0.95), while a
+  // strand alone, strands flying apart and each strand's stretching keep pic_blend's exactness.
+  double contact_blend = 0.95;
 };
 
 // What the continuum did in the last step.
@@ -258,6 +266,8 @@ class HairDynamics : public Body {
   double bulk_wave_speed_ = 0.0, bulk_substep_ = 0.0;
   mpm::Particles bulk_scratch_;
   std::vector<Eigen::Matrix3d> bulk_stress_;
+  std::vector<char> bulk_compressed_;  // per vertex, after the last return
+  std::vector<double> bulk_share_;     // other strands' share of each vertex's grid mass
   StrandContinuumStats last_continuum_;
   std::vector<Eigen::Vector3d> x_start_, v_free_;
   std::vector<double> inverse_mass_;
