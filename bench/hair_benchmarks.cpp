@@ -7,14 +7,16 @@
 // vertices' Coulomb impulses) and give segment-frames per core-second, Han's figure for his
 // hair ball being about 790 (1.92 M segments at 122 s per frame on 20 threads).
 //
-// Arguments: {strands, TBB threads}. ms_collisions: the strand-strand impulses (Han 4.13,
-// rod/strand_collisions.h), part of "from grid".
+// Arguments: {strands, TBB threads, continuum}. ms_collisions: the strand-strand impulses (Han
+// 4.13, rod/strand_collisions.h), part of "from grid". continuum: 0 off, 1 the strands'
+// continuum on the grid (Han 4.3-4.6, HairSettings::continuum, its contact blend; part of
+// "grid"), 2 the same with Han's xi = 0.95 everywhere.
 //
 // fallingBundles: Han's Fig. 4.7 scaled down (as test_rod_strand_collisions): a bundle of n x n
 // free 4 cm strands (16 segments, 1 mm apart) falling from 8 mm onto a crossing bundle of n x n
 // clamped ones, 72 steps of 1/240 s per iteration; the cost per step of the collision stage and
 // the missed crossings (the audit, core/collision/segment_crossings.h, outside the timing).
-// Arguments: {n, TBB threads}.
+// Arguments: {n, TBB threads, continuum} (continuum as above).
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -37,9 +39,15 @@ constexpr double kHead = 0.09;  // scalp radius [m]
 constexpr int kSegments = 24;
 
 // Roots on the upper hemisphere, spread by the golden angle.
-std::shared_ptr<chs::rod::HairDynamics> headOfHair(int strands) {
+void setContinuum(chs::rod::HairSettings& s, int mode) {
+  s.continuum.enabled = mode > 0;
+  if (mode == 2) s.pic_blend = 0.95;
+}
+
+std::shared_ptr<chs::rod::HairDynamics> headOfHair(int strands, int continuum) {
   chs::rod::HairSettings s;
   s.grid_spacing = 0.01;
+  setContinuum(s, continuum);
   s.strand_collisions.enabled = true;  // the collision stage is part of the frame measured
   auto hair = std::make_shared<chs::rod::HairDynamics>(s);
   const double golden = M_PI * (3.0 - std::sqrt(5.0));
@@ -57,7 +65,7 @@ void hairFrame(benchmark::State& state) {
   chs::WorldSettings ws;
   ws.grid_spacing = 0.01;
   chs::World world(ws);
-  auto hair = headOfHair(strands);
+  auto hair = headOfHair(strands, static_cast<int>(state.range(2)));
   world.add("hair", hair);
   world.setColliders({std::make_shared<chs::SphereSurface>(Vec3::Zero(), kHead)});
   const double dt = 1.0 / 120.0;
@@ -97,10 +105,12 @@ void hairFrame(benchmark::State& state) {
   state.counters["max_newton"] = newton;
 }
 BENCHMARK(hairFrame)
-    ->Args({100, 1})
-    ->Args({100, 2})
-    ->Args({1000, 1})
-    ->Args({1000, 2})
+    ->Args({100, 1, 0})
+    ->Args({100, 2, 0})
+    ->Args({100, 1, 1})
+    ->Args({100, 1, 2})
+    ->Args({1000, 1, 0})
+    ->Args({1000, 2, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
@@ -119,6 +129,7 @@ void fallingBundles(benchmark::State& state) {
     chs::rod::HairSettings hs;
     hs.grid_spacing = 0.01;
     hs.strand_collisions.enabled = true;
+    setContinuum(hs, static_cast<int>(state.range(2)));
     auto hair = std::make_shared<chs::rod::HairDynamics>(hs);
     world.add("hair", hair);
     for (int a = 0; a < n; ++a)
@@ -163,9 +174,11 @@ void fallingBundles(benchmark::State& state) {
   state.counters["missed_crossings"] = static_cast<double>(crossings) / runs;
 }
 BENCHMARK(fallingBundles)
-    ->Args({4, 1})
-    ->Args({4, 2})
-    ->Args({6, 2})
+    ->Args({4, 1, 0})
+    ->Args({4, 2, 0})
+    ->Args({6, 2, 0})
+    ->Args({4, 1, 1})
+    ->Args({4, 1, 2})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

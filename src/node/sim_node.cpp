@@ -75,6 +75,20 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
     throw chs::InputError("parameter ~hair/line_width must be positive (m)");
   if (!(hair_grid_spacing_ > 0.0) || !std::isfinite(hair_grid_spacing_))
     throw chs::InputError("parameter ~hair/grid_spacing must be positive (m)");
+  const ros::NodeHandle continuum(hair, "continuum");
+  chs::rod::StrandContinuumSettings& c = hair_continuum_;
+  continuum.param("enabled", c.enabled, c.enabled);
+  continuum.param("youngs_modulus", c.youngs_modulus, c.youngs_modulus);
+  continuum.param("poisson_ratio", c.poisson_ratio, c.poisson_ratio);
+  continuum.param("friction", c.friction, c.friction);
+  continuum.param("contact_blend", c.contact_blend, c.contact_blend);
+  try {  // the core checks them
+    chs::rod::HairSettings check;
+    check.continuum = c;
+    chs::rod::HairDynamics{check};
+  } catch (const chs::InputError& e) {
+    throw chs::InputError(std::string("parameter ~hair/continuum: ") + e.what());
+  }
   for (const auto& c : colliders_.colliders()) {
     try {
       chs::checkName(c.name);

@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <limits>
 #include <set>
+#include <sstream>
+#include <string>
 
 #include <geometry_msgs/WrenchStamped.h>
 #include <Eigen/Geometry>
@@ -12,11 +14,23 @@
 
 namespace chs_node {
 
+namespace {
+
+std::string continuumNote(const chs::rod::StrandContinuumSettings& c) {
+  if (!c.enabled) return "";
+  std::ostringstream s;
+  s << ", strand continuum on (E " << c.youngs_modulus << " Pa, friction " << c.friction << ")";
+  return s.str();
+}
+
+}  // namespace
+
 chs::rod::HairSettings SimNode::hairSettings() const {
   chs::rod::HairSettings s;
   s.grid_spacing = world_.gridSpacing() > 0.0 ? world_.gridSpacing() : hair_grid_spacing_;
   s.kernel_degree = params_.world.kernel_degree;
   s.gravity = params_.gravity;
+  s.continuum = hair_continuum_;
   return s;
 }
 
@@ -71,7 +85,8 @@ bool SimNode::loadHair(cloth_hair_sim::LoadHair::Request& req,
     res.message = who + "loaded, " + std::to_string(res.strands) + " strands, " +
                   std::to_string(res.vertices) + " vertices, " + std::to_string(h.display.size()) +
                   " display strands, material " + h.material_name +
-                  (h.loose ? ", loose (roots free)" : ", roots on frame '" + h.frame_id + "'");
+                  (h.loose ? ", loose (roots free)" : ", roots on frame '" + h.frame_id + "'") +
+                  continuumNote(settings.continuum);
     hairs_.emplace(req.name, std::move(h));
     substep_cost_ = 0.0;  // the world grew: the next update probes its cost
   } catch (const std::exception& e) {

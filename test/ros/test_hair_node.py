@@ -100,6 +100,11 @@ class HairNode(unittest.TestCase):
         res = self.load(groom('scalp'))
         self.assertTrue(res.success, res.message)
         print('[figure] node: %s' % res.message)
+        # hair_continuum.test runs this with ~hair/continuum/enabled: the load says so.
+        if rospy.get_param('~continuum', False):
+            self.assertIn('strand continuum on', res.message)
+        else:
+            self.assertNotIn('strand continuum on', res.message)
         self.assertEqual(res.strands, GUIDES)
         self.assertEqual(res.vertices, GUIDES * (SEGMENTS + 1))
 

@@ -167,6 +167,8 @@ class SimNode {
   std::vector<float> hair_colour_{0.45f, 0.3f, 0.15f, 1.0f};
   double hair_line_width_ = 0.0005;
   double hair_grid_spacing_ = 0.01;
+  // ~hair/continuum/: the strands' frictional contact as a continuum on the grid (opt-in).
+  chs::rod::StrandContinuumSettings hair_continuum_;
   // The mpm garments as bodies of one world: one grid, contact and friction between them.
   chs::World world_;
   std::vector<std::string> active_colliders_;  // the world's collider order (those with a pose)
