@@ -4,8 +4,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -119,6 +121,56 @@ TEST(SimulateTool, TwoSheetsOnATable) {
               1e3 * upper.first, 1e3 * lower.second);
   EXPECT_GT(upper.first, lower.second);
   EXPECT_LT(upper.second, 0.01);  // it did fall
+  fs::remove_all(out);
+}
+
+// A loose lock of hair (10 strands of 4 cm, 8 segments, free roots) dropped onto a table with
+// the strands' continuum on: PLY strands per frame, the report's hair entries, a picture, and
+// the table carrying the lock's weight at the end.
+TEST(SimulateTool, HairDroppedOnATable) {
+  const fs::path out = tempDir() / "hair";
+  const ToolRun r = simulate("'" + writeScene("hair", R"(
+name: hair_on_table
+duration: 0.4
+frame_rate: 20
+world: {grid_spacing: 0.01}
+hair:
+  - name: lock
+    groom: {strands: 10, length: 0.04, segments: 8, radii: 0.005, centre: [0, 0, 0.02],
+            direction: [1, 0, 0], cone_angle: 0.3}
+    roots: loose
+    continuum: {enabled: true}
+colliders:
+  - name: table
+    table: {size: [0.3, 0.3], depth: 0.05}
+    friction: 0.5
+)") + "' --out '" + out.string() +
+                             "' --format ply --render-frames last");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("1 hair (10 strands, 90 vertices)"), std::string::npos) << r.output;
+  EXPECT_EQ(countFiles(out / "frames", ".ply"), 9);  // frames 0..8
+  std::ifstream ply(out / "frames" / "lock_0008.ply");
+  const std::string text((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("element vertex 90\n"), std::string::npos);
+  EXPECT_NE(text.find("element edge 80\n"), std::string::npos);
+  EXPECT_GT(fs::file_size(out / "render_0008.png"), 1000u);
+
+  const nlohmann::json j = readJson(out / "report.json");
+  ASSERT_EQ(j["bodies"].size(), 1u);
+  EXPECT_EQ(j["bodies"][0]["kind"], "hair");
+  EXPECT_EQ(j["bodies"][0]["strands"], 10);
+  const auto& last = j["frames"][8];
+  EXPECT_LT(last["bodies"]["lock"]["deepest_penetration_m"].get<double>(), 1e-4);
+  EXPECT_LT(last["bodies"]["lock"]["largest_stretch"].get<double>(), 1.01);
+  // The lock's weight, rho pi r^2 L g per strand (human hair: 1300 kg/m^3, r 40 um).
+  const double weight = 10 * 1300.0 * M_PI * 40e-6 * 40e-6 * 0.04 * 9.81;
+  const double fz = last["colliders"]["table"]["force_N"][2].get<double>();
+  std::printf(
+      "[figure] hair lock on the table after 0.4 s: table load %.4e N, weight %.4e N "
+      "(error %.2e), lowest vertex %.2e m into it\n",
+      -fz, weight, -fz / weight - 1.0,
+      last["bodies"]["lock"]["deepest_penetration_m"].get<double>());
+  EXPECT_NEAR(-fz, weight, 0.05 * weight);
   fs::remove_all(out);
 }
 

@@ -1,6 +1,7 @@
 // Simulation scene files (io/simulation_scene.h): what a valid scene becomes, and that bad input
 // is refused with the offending key named.
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -139,10 +140,92 @@ TEST(SimulationScene, RefusesBadInputNamingTheKey) {
        "bodies[0].rectangle.cells: must be positive integers"},
       {edited("material: {preset: cotton_eischen, areal_density: 0.3}", "material: silk"),
        "bodies[0].material: unknown material preset 'silk'"},
-      {"name: x\nduration: 1\n", "bodies: missing"},
+      {"name: x\nduration: 1\n", "bodies: the scene needs at least one body or hair"},
   };
   for (const Case& c : cases) {
     const std::string message = refusal(c.text);
+    EXPECT_NE(message.find(c.expect), std::string::npos)
+        << "expected '" << c.expect << "' in: " << message;
+  }
+}
+
+// Hair: a groom on a collider that carries its roots, and the refusals.
+const char* kHair = R"(
+name: hair
+hair:
+  - name: scalp
+    groom: {strands: 12, length: 0.05, segments: 5, radii: 0.05, cone_angle: 0.8, seed: 2}
+    position: [0, 0, 1]
+    roots: head
+    continuum: {friction: 0.5}
+colliders:
+  - name: head
+    sphere: {radius: 0.05}
+    position: [0, 0, 1]
+)";
+
+std::string hairEdited(const std::string& from, const std::string& to) {
+  std::string s = kHair;
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+TEST(SimulationScene, ParsesHair) {
+  const SimulationScene s = parseSimulationScene(kHair, CHS_SOURCE_DIR, "x");
+  ASSERT_EQ(s.hair.size(), 1u);
+  const SimulationHair& h = s.hair[0];
+  EXPECT_TRUE(s.bodies.empty());
+  EXPECT_EQ(h.name, "scalp");
+  ASSERT_EQ(h.strands.size(), 12u);
+  EXPECT_EQ(h.strands[0].size(), 6u);
+  for (const auto& strand : h.strands)  // rooted on the sphere at the groom's pose
+    EXPECT_NEAR((strand.front() - Eigen::Vector3d(0, 0, 1)).norm(), 0.05, 1e-12);
+  EXPECT_EQ(h.roots, "head");
+  EXPECT_EQ(h.root_collider, 0);
+  EXPECT_EQ(h.material_name, "human_hair");
+  EXPECT_TRUE(h.continuum.enabled);  // a continuum section turns it on
+  EXPECT_DOUBLE_EQ(h.continuum.friction, 0.5);
+  // A strand file (the text format of io/strand_file.h), resampled.
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "chs_scene_strands.txt").string();
+  std::ofstream(file) << "3\n0 0 0\n0 0 -0.05\n0 0 -0.1\n";
+  const SimulationScene f = parseSimulationScene(
+      "hair:\n  - file: {file: " + file + ", segments: 4, scale: 2}\n    roots: loose\n", "", "y");
+  ASSERT_EQ(f.hair.size(), 1u);
+  EXPECT_EQ(f.hair[0].name, "hair0");
+  ASSERT_EQ(f.hair[0].strands[0].size(), 5u);
+  EXPECT_NEAR(f.hair[0].strands[0].back().z(), -0.2, 1e-12);
+  EXPECT_FALSE(f.hair[0].continuum.enabled);
+}
+
+TEST(SimulationScene, RefusesBadHair) {
+  struct Case {
+    std::string text, expect;
+  };
+  const Case cases[] = {
+      {hairEdited("roots: head", "roots: neck"),
+       "hair[0].roots: 'neck' is neither fixed, loose nor a collider's name"},
+      {hairEdited("roots: head", "roots: head\n    material: wig"),
+       "hair[0].material: unknown preset 'wig'"},
+      {hairEdited("roots: head", "roots: head\n    material: {preset: human_hair, radius: -1e-5}"),
+       "hair[0].material: material: radius"},
+      {hairEdited("strands: 12", "strands: 0"), "hair[0].groom.strands"},
+      {hairEdited("friction: 0.5", "friction: -0.5"), "hair[0].continuum"},
+      {hairEdited("groom: {strands: 12, length: 0.05, segments: 5, radii: 0.05, cone_angle: "
+                  "0.8, seed: 2}",
+                  "file: no/such.hair"),
+       "hair[0].file"},
+      {hairEdited("name: scalp", "name: head"), ""},  // a hair and a collider may share a name
+      {hairEdited("name: scalp", "name: scalp\n    comb: true"), "hair[0].comb: unknown key"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = refusal(c.text);
+    if (c.expect.empty()) {
+      EXPECT_EQ(message, "(accepted)");
+      continue;
+    }
+    std::printf("refused: %s\n", message.c_str());
     EXPECT_NE(message.find(c.expect), std::string::npos)
         << "expected '" << c.expect << "' in: " << message;
   }
@@ -161,7 +244,7 @@ TEST(SimulationScene, LoadNamesTheFile) {
        std::filesystem::directory_iterator(std::string(CHS_SOURCE_DIR) + "/scenes")) {
     if (entry.path().stem().string().rfind("simulate_", 0) != 0) continue;
     const SimulationScene s = loadSimulationScene(entry.path().string());
-    EXPECT_FALSE(s.bodies.empty()) << entry.path();
+    EXPECT_FALSE(s.bodies.empty() && s.hair.empty()) << entry.path();
     EXPECT_LE(s.duration, 1.0) << entry.path();  // shipped scenes run in reasonable time
     ++shipped;
   }

@@ -77,6 +77,7 @@ std::string frameFile(const std::string& body, int frame, const std::string& ext
 struct Frame {
   int index = 0;
   std::vector<chs::DisplaySurface> surfaces;
+  std::vector<chs::rod::Polylines> hair;
   std::vector<Eigen::Isometry3d> poses;
 };
 
@@ -101,11 +102,18 @@ int run(const Options& opt) {
     names.push_back(b.name);
     vertices += b.problem.mesh.numVertices();
   }
+  long strands = 0, strand_vertices = 0;
+  for (const auto& h : scene.hair) {
+    names.push_back(h.name);
+    strands += static_cast<long>(h.strands.size());
+    for (const auto& strand : h.strands) strand_vertices += static_cast<long>(strand.size());
+  }
   if (!opt.quiet)
     std::cerr << "simulate: scene " << scene.name << ", " << scene.bodies.size() << " bodies ("
-              << vertices << " control points), " << scene.colliders.size() << " colliders, "
-              << sim.numFrames() << " frames of " << 1.0 / scene.frame_rate << " s, grid dx "
-              << sim.world().gridSpacing() << " m" << std::endl;
+              << vertices << " control points), " << scene.hair.size() << " hair (" << strands
+              << " strands, " << strand_vertices << " vertices), " << scene.colliders.size()
+              << " colliders, " << sim.numFrames() << " frames of " << 1.0 / scene.frame_rate
+              << " s, grid dx " << sim.world().gridSpacing() << " m" << std::endl;
 
   chs::SimulationSummary summary;
   summary.mesh_format = opt.format;
@@ -124,8 +132,8 @@ int run(const Options& opt) {
     std::snprintf(caption, sizeof caption, ", frame %d, t = %.3f s", f.index,
                   f.index / scene.frame_rate);
     picture(name, [&] {
-      chs::plotSimulationFrame(f.surfaces, names, scene.colliders, f.poses, (dir / name).string(),
-                               title + caption);
+      chs::plotSimulationFrame(f.surfaces, f.hair, names, scene.colliders, f.poses,
+                               (dir / name).string(), title + caption);
     });
   };
   // Meshes of the frame just reached, its picture if asked for; kept for a final "last".
@@ -140,6 +148,19 @@ int run(const Options& opt) {
         chs::writeSurfacePly(path, last.surfaces.back());
       else
         chs::writeSurfaceObj(path, last.surfaces.back());
+    }
+    last.hair.clear();
+    for (int h = 0; h < sim.numHair(); ++h) {
+      chs::rod::Polylines strands;
+      for (int s = 0; s < sim.hair(h).numStrands(); ++s)
+        strands.push_back(sim.hair(h).strand(s).positions());
+      const std::string path =
+          (dir / "frames" / frameFile(names[sim.numBodies() + h], index, opt.format)).string();
+      if (opt.format == "ply")
+        chs::writeStrandsPly(path, strands);
+      else
+        chs::writeStrandsObj(path, strands);
+      last.hair.push_back(std::move(strands));
     }
     last.poses = sim.colliderPoses();
     if (render.frames.count(index)) renderFrame(last);
@@ -194,8 +215,8 @@ int run(const Options& opt) {
 int main(int argc, char** argv) {
   Options opt;
   CLI::App app{
-      "simulate: steps a scene's garments as bodies of one world among scripted colliders and "
-      "writes per-frame meshes, report.json and pictures"};
+      "simulate: steps a scene's garments and hair as bodies of one world among scripted "
+      "colliders and writes per-frame meshes and strands, report.json and pictures"};
   app.add_option("scene", opt.scene, "scene file (YAML, see io/simulation_scene.h)")->required();
   app.add_option("--out", opt.out, "output directory (default simulate_output/<scene name>)");
   app.add_option("--format", opt.format, "per-frame mesh format")

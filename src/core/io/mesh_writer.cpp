@@ -86,4 +86,41 @@ void writeSurfacePly(const std::string& path, const DisplaySurface& surface) {
   plyFile(path, "display surface", surface.vertices, surface.triangles);
 }
 
+void writeStrandsObj(const std::string& path, const rod::Polylines& strands) {
+  std::ofstream out = open(path);
+  out << "# cloth_hair_sim strands\n";
+  for (const auto& strand : strands)
+    for (const auto& p : strand) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  long first = 1;  // OBJ indices are 1-based
+  for (const auto& strand : strands) {
+    out << 'l';
+    for (std::size_t i = 0; i < strand.size(); ++i) out << ' ' << first + static_cast<long>(i);
+    out << '\n';
+    first += static_cast<long>(strand.size());
+  }
+  finish(out, path);
+}
+
+void writeStrandsPly(const std::string& path, const rod::Polylines& strands) {
+  long vertices = 0, edges = 0;
+  for (const auto& strand : strands) {
+    vertices += static_cast<long>(strand.size());
+    edges += static_cast<long>(strand.size()) - 1;
+  }
+  std::ofstream out = open(path);
+  out << "ply\nformat ascii 1.0\ncomment cloth_hair_sim strands\n"
+      << "element vertex " << vertices << "\nproperty double x\nproperty double y\n"
+      << "property double z\nelement edge " << edges
+      << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  for (const auto& strand : strands)
+    for (const auto& p : strand) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  long first = 0;
+  for (const auto& strand : strands) {
+    for (std::size_t i = 1; i < strand.size(); ++i)
+      out << first + static_cast<long>(i) - 1 << ' ' << first + static_cast<long>(i) << '\n';
+    first += static_cast<long>(strand.size());
+  }
+  finish(out, path);
+}
+
 }  // namespace chs

@@ -129,6 +129,7 @@ const char* colour(std::size_t body) {
 }  // namespace
 
 void plotSimulationFrame(const std::vector<DisplaySurface>& bodies,
+                         const std::vector<rod::Polylines>& hair,
                          const std::vector<std::string>& body_names,
                          const std::vector<SimulationCollider>& colliders,
                          const std::vector<Eigen::Isometry3d>& collider_poses,
@@ -142,10 +143,18 @@ void plotSimulationFrame(const std::vector<DisplaySurface>& bodies,
     for (const auto& t : b.triangles) edge += (b.vertices[t[1]] - b.vertices[t[0]]).norm();
     triangles += static_cast<long>(b.triangles.size());
   }
-  if (triangles == 0 || !lo.allFinite())
-    throw std::runtime_error("frame picture: no finite body surface to draw");
+  long segments = 0;
+  for (const auto& h : hair)
+    for (const auto& strand : h) {
+      for (const auto& p : strand)
+        if (p.allFinite()) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+      for (std::size_t i = 1; i < strand.size(); ++i) edge += (strand[i] - strand[i - 1]).norm();
+      segments += static_cast<long>(strand.size()) - 1;
+    }
+  if (triangles + segments == 0 || !lo.allFinite())
+    throw std::runtime_error("frame picture: no finite body surface or strand to draw");
   const double extent = std::max((hi - lo).maxCoeff(), 1e-6);
-  edge = std::max(edge / triangles, 1e-3 * extent);
+  edge = std::max(edge / (triangles + segments), 1e-3 * extent);
   const Vec3 focus = 0.5 * (lo + hi);
 
   std::ostringstream s;
@@ -155,6 +164,14 @@ void plotSimulationFrame(const std::vector<DisplaySurface>& bodies,
     for (const auto& t : bodies[b].triangles) {
       const auto& v = bodies[b].vertices;
       appendQuad(s, {v[t[0]], v[t[1]], v[t[2]], v[t[2]]});
+    }
+    s << "EOD\n";
+  }
+  for (std::size_t h = 0; h < hair.size(); ++h) {
+    s << "$hair" << h << " << EOD\n";
+    for (const auto& strand : hair[h]) {
+      for (const auto& p : strand) s << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+      s << "\n\n";  // two blank lines: a new line, not the next row of a grid surface
     }
     s << "EOD\n";
   }
@@ -184,12 +201,15 @@ void plotSimulationFrame(const std::vector<DisplaySurface>& bodies,
     p << "splot ";
     for (std::size_t b = 0; b < bodies.size(); ++b)
       p << (b ? ", " : "") << "$body" << b << " with pm3d fc rgb '" << colour(b) << "' notitle";
-    if (any_solid) p << ", $solid with pm3d fc rgb '#b8b8b8' notitle";
+    if (any_solid) p << (bodies.empty() ? "" : ", ") << "$solid with pm3d fc rgb '#b8b8b8' notitle";
+    for (std::size_t h = 0; h < hair.size(); ++h)
+      p << (bodies.empty() && !any_solid && h == 0 ? "" : ", ") << "$hair" << h
+        << " with lines lw 1.2 lc rgb '" << colour(bodies.size() + h) << "' notitle";
     return p.str() + "\n";
   };
   // pm3d plots have no key samples: the names as labels in their bodies' colours.
   std::ostringstream labels;
-  for (std::size_t b = 0; b < bodies.size(); ++b)
+  for (std::size_t b = 0; b < bodies.size() + hair.size(); ++b)
     labels << "set label " << b + 1 << " "
            << gnuplotQuote(b < body_names.size() ? body_names[b] : "body " + std::to_string(b))
            << " at screen 0.02, screen " << 0.9 - 0.04 * b << " tc rgb '" << colour(b)

@@ -49,10 +49,22 @@ std::string simulationReportJson(const SimulationScene& scene, const SimulationS
   json bodies = json::array();
   for (const auto& b : scene.bodies)
     bodies.push_back({{"name", b.name},
+                      {"kind", "garment"},
                       {"material", b.material_name},
                       {"vertices", b.problem.mesh.numVertices()},
                       {"quads", b.problem.mesh.numQuads()},
                       {"pins", b.problem.bc.pinned.size()}});
+  for (const auto& h : scene.hair) {
+    long vertices = 0;
+    for (const auto& strand : h.strands) vertices += static_cast<long>(strand.size());
+    bodies.push_back({{"name", h.name},
+                      {"kind", "hair"},
+                      {"material", h.material_name},
+                      {"strands", h.strands.size()},
+                      {"vertices", vertices},
+                      {"roots", h.roots},
+                      {"continuum", h.continuum.enabled}});
+  }
   j["bodies"] = bodies;
   json colliders = json::array();
   for (const auto& c : scene.colliders)
@@ -74,10 +86,12 @@ std::string simulationReportJson(const SimulationScene& scene, const SimulationS
                {"unconverged_steps", f.unconverged},
                {"kinetic_energy_J", num(f.kinetic_energy)}};
     json jb = json::object();
-    for (std::size_t i = 0; i < f.bodies.size() && i < scene.bodies.size(); ++i)
-      jb[scene.bodies[i].name] = {{"kinetic_energy_J", num(f.bodies[i].kinetic_energy)},
-                                  {"deepest_penetration_m", num(f.bodies[i].deepest_penetration)},
-                                  {"largest_stretch", num(f.bodies[i].largest_stretch)}};
+    for (std::size_t i = 0; i < f.bodies.size() && i < scene.bodies.size() + scene.hair.size(); ++i)
+      jb[i < scene.bodies.size() ? scene.bodies[i].name
+                                 : scene.hair[i - scene.bodies.size()].name] = {
+          {"kinetic_energy_J", num(f.bodies[i].kinetic_energy)},
+          {"deepest_penetration_m", num(f.bodies[i].deepest_penetration)},
+          {"largest_stretch", num(f.bodies[i].largest_stretch)}};
     jf["bodies"] = jb;
     json jc = json::object();
     for (std::size_t i = 0; i < f.collider_loads.size() && i < scene.colliders.size(); ++i)

@@ -7,6 +7,7 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/io/mesh_reader.h"
+#include "cloth_hair_sim/core/io/strand_file.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "scene_yaml.h"
 
@@ -179,6 +180,130 @@ ColliderShape parseShape(YamlSection& c, const std::string& kind, const std::str
   return shape;
 }
 
+rod::RodMaterial parseRodMaterial(YamlSection& h, std::string& name) {
+  rod::RodMaterial m = rod::humanHair();
+  name = "human_hair";
+  if (!h.has("material")) return m;
+  const YAML::Node node = h.get("material");
+  const std::string key = h.key("material");
+  if (node.IsScalar()) {
+    if (YamlSection::scalarText(node) != "human_hair")
+      failKey(key, "unknown preset '" + YamlSection::scalarText(node) + "' (known: human_hair)");
+    return m;
+  }
+  YamlSection ms(node, key);
+  const std::string preset = ms.text("preset", "");
+  if (!preset.empty() && preset != "human_hair")
+    failKey(ms.key("preset"), "unknown preset '" + preset + "' (known: human_hair)");
+  name = preset.empty() ? "explicit" : preset + " (overridden)";
+  if (preset.empty()) m = rod::RodMaterial();
+  m.youngs_modulus = ms.number("young", m.youngs_modulus);
+  m.shear_modulus = ms.number("shear", m.shear_modulus);
+  if (ms.has("radius")) {
+    m.radius_1 = ms.number("radius");
+    m.radius_2 = 0.0;
+  }
+  m.density = ms.number("density", m.density);
+  ms.done();
+  try {
+    rod::checkRodMaterial(m, "material");
+  } catch (const InputError& e) {
+    failKey(key, e.what());
+  }
+  return m;
+}
+
+rod::Polylines parseStrands(YamlSection& h, const std::string& base_dir) {
+  const std::string kind = presentKind(h, {"groom", "file"}, "hair geometry");
+  const Eigen::Isometry3d pose = parsePose(h);
+  rod::Polylines strands;
+  try {
+    if (kind == "groom") {
+      YamlSection g(h.get("groom"), h.key("groom"));
+      rod::GroomSettings gs;
+      gs.strands = g.integer("strands", gs.strands, 1);
+      gs.length = g.positive("length", gs.length);
+      gs.segments = g.integer("segments", gs.segments, 1);
+      if (g.has("radii")) {
+        const YAML::Node r = g.get("radii");
+        gs.scalp.radii = r.IsScalar()
+                             ? Eigen::Vector3d::Constant(YamlSection::toNumber(r, g.key("radii")))
+                             : Eigen::Vector3d(YamlSection::toVector(r, g.key("radii"), 3));
+      }
+      gs.scalp.centre = g.vector3("centre", gs.scalp.centre);
+      gs.scalp.direction = g.vector3("direction", gs.scalp.direction);
+      gs.scalp.cone_angle = g.number("cone_angle", gs.scalp.cone_angle);
+      gs.curl_radius = g.number("curl_radius", gs.curl_radius);
+      gs.curl_pitch = g.number("curl_pitch", gs.curl_pitch);
+      gs.seed = static_cast<std::uint32_t>(g.integer("seed", 1, 0));
+      g.done();
+      strands = rod::groomScalp(gs);
+    } else {
+      const YAML::Node f = h.get("file");
+      std::string file;
+      double scale = 1.0;
+      int segments = 0;
+      if (f.IsScalar()) {
+        file = YamlSection::scalarText(f);
+      } else {
+        YamlSection fs(f, h.key("file"));
+        file = fs.text("file", "");
+        scale = fs.positive("scale", 1.0);
+        segments = fs.integer("segments", 0, 0);
+        fs.done();
+      }
+      if (file.empty()) failKey(h.key("file"), "needs a path");
+      const std::filesystem::path path = std::filesystem::path(file).is_absolute()
+                                             ? std::filesystem::path(file)
+                                             : std::filesystem::path(base_dir) / file;
+      strands = readStrandFile(path.string());
+      for (auto& strand : strands) {
+        if (segments > 0) strand = rod::resampleStrand(strand, segments);
+        for (auto& x : strand) x *= scale;
+      }
+    }
+    for (auto& strand : strands)
+      for (auto& x : strand) x = pose * x;
+    rod::checkStrands(strands);
+  } catch (const InputError& e) {
+    failKey(h.key(kind), e.what());
+  }
+  return strands;
+}
+
+SimulationHair parseHair(const YAML::Node& node, const std::string& key,
+                         const std::string& fallback_name, const std::string& base_dir,
+                         std::set<std::string>& names) {
+  YamlSection h(node, key);
+  SimulationHair out;
+  out.name = parseName(h, fallback_name, names);
+  out.strands = parseStrands(h, base_dir);
+  out.material = parseRodMaterial(h, out.material_name);
+  out.roots = h.text("roots", out.roots);
+  out.pic_blend = h.number("pic_blend", out.pic_blend);
+  if (!(out.pic_blend >= 0.0 && out.pic_blend <= 1.0))
+    failKey(h.key("pic_blend"), "must lie in [0, 1]");
+  if (h.has("continuum")) {
+    YamlSection c(h.get("continuum"), h.key("continuum"));
+    rod::StrandContinuumSettings& cs = out.continuum;
+    cs.enabled = c.boolean("enabled", true);
+    cs.youngs_modulus = c.number("youngs_modulus", cs.youngs_modulus);
+    cs.poisson_ratio = c.number("poisson_ratio", cs.poisson_ratio);
+    cs.friction = c.number("friction", cs.friction);
+    cs.contact_blend = c.number("contact_blend", cs.contact_blend);
+    c.done();
+    try {
+      rod::HairSettings check;
+      check.continuum = cs;
+      rod::HairDynamics{check};
+    } catch (const InputError& e) {
+      failKey(h.key("continuum"), e.what());
+    }
+  }
+  h.done();
+  return out;
+}
+
 ScriptedMotion parseMotion(const YAML::Node& node, const std::string& key) {
   YamlSection m(node, key);
   ScriptedMotion motion;
@@ -270,12 +395,21 @@ SimulationScene parse(const YAML::Node& root, const std::string& base_dir,
   if (scene.numFrames() > 1000000) failKey("frame_rate", "gives more than a million frames");
   scene.gravity = s.vector3("gravity", scene.gravity);
   if (s.has("world")) parseWorld(s.get("world"), scene);
-  const YAML::Node bodies = s.require("bodies");
-  if (!bodies.IsSequence() || bodies.size() == 0) failKey("bodies", "must be a non-empty list");
   std::set<std::string> body_names, collider_names;
-  for (std::size_t i = 0; i < bodies.size(); ++i)
-    scene.bodies.push_back(parseBody(bodies[i], indexed("bodies", i), "body" + std::to_string(i),
-                                     base_dir, scene.gravity, body_names));
+  if (YAML::Node bodies = s.get("bodies")) {
+    if (!bodies.IsSequence()) failKey("bodies", "must be a list");
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      scene.bodies.push_back(parseBody(bodies[i], indexed("bodies", i), "body" + std::to_string(i),
+                                       base_dir, scene.gravity, body_names));
+  }
+  if (YAML::Node hair = s.get("hair")) {
+    if (!hair.IsSequence()) failKey("hair", "must be a list");
+    for (std::size_t i = 0; i < hair.size(); ++i)
+      scene.hair.push_back(
+          parseHair(hair[i], indexed("hair", i), "hair" + std::to_string(i), base_dir, body_names));
+  }
+  if (scene.bodies.empty() && scene.hair.empty())
+    failKey("bodies", "the scene needs at least one body or hair");
   if (YAML::Node colliders = s.get("colliders")) {
     if (!colliders.IsSequence()) failKey("colliders", "must be a list");
     for (std::size_t i = 0; i < colliders.size(); ++i)
@@ -283,6 +417,15 @@ SimulationScene parse(const YAML::Node& root, const std::string& base_dir,
           parseCollider(colliders[i], indexed("colliders", i), i, base_dir, collider_names));
   }
   s.done();
+  for (std::size_t k = 0; k < scene.hair.size(); ++k) {
+    SimulationHair& h = scene.hair[k];
+    if (h.roots == "fixed" || h.roots == "loose") continue;
+    for (std::size_t c = 0; c < scene.colliders.size(); ++c)
+      if (scene.colliders[c].name == h.roots) h.root_collider = static_cast<int>(c);
+    if (h.root_collider < 0)
+      failKey(indexed("hair", k) + ".roots",
+              "'" + h.roots + "' is neither fixed, loose nor a collider's name");
+  }
   return scene;
 }
 

@@ -40,7 +40,34 @@ SimulationRun::SimulationRun(const SimulationScene& scene, int max_halvings)
       rest_lengths_.back().push_back(
           (b.problem.mesh.vertices[e[1]] - b.problem.mesh.vertices[e[0]]).norm());
   }
+  for (const SimulationHair& h : scene_.hair) {
+    rod::HairSettings settings;
+    settings.grid_spacing = world_.gridSpacing() > 0.0 ? world_.gridSpacing() : 0.01;
+    settings.kernel_degree = scene_.world.kernel_degree;
+    settings.gravity = scene_.gravity;
+    settings.pic_blend = h.pic_blend;
+    settings.continuum = h.continuum;
+    std::shared_ptr<rod::HairDynamics> d;
+    try {
+      d = std::make_shared<rod::HairDynamics>(settings);
+      for (const auto& strand : h.strands) d->addStrand(strand, h.material, h.roots != "loose");
+    } catch (const InputError& e) {
+      throw InputError("hair " + h.name + ": " + e.what());
+    }
+    world_.add(h.name, d);
+    hair_.push_back(d);
+  }
   placeColliders(0.0, 0.0);
+}
+
+void SimulationRun::placeRoots(double t) {
+  for (std::size_t k = 0; k < hair_.size(); ++k) {
+    const SimulationHair& h = scene_.hair[k];
+    if (h.root_collider < 0) continue;
+    const SimulationCollider& c = scene_.colliders[h.root_collider];
+    const Eigen::Isometry3d motion = c.poseAt(t) * c.pose.inverse();
+    for (int s = 0; s < hair_[k]->numStrands(); ++s) hair_[k]->setRootFrame(s, motion);
+  }
 }
 
 std::vector<Eigen::Isometry3d> SimulationRun::colliderPoses() const {
@@ -65,6 +92,8 @@ bool SimulationRun::diverged(const WorldStepReport& report) const {
   if (!report.diverged.empty()) return true;
   for (const auto& b : bodies_)
     if (!std::isfinite(b->kineticEnergy())) return true;
+  for (const auto& h : hair_)
+    if (!std::isfinite(h->kineticEnergy())) return true;
   return false;
 }
 
@@ -74,7 +103,10 @@ bool SimulationRun::guardedStep(double dt, int depth, FrameRecord& rec,
   const double t0 = world_.time();
   bool moving = false;
   for (const auto& c : scene_.colliders) moving = moving || c.motion.moves();
-  if (moving) placeColliders(t0, t0 + dt);
+  if (moving) {
+    placeColliders(t0, t0 + dt);
+    placeRoots(t0 + dt);
+  }
   const WorldStepReport report = world_.step(dt);
   ++rec.substeps;
   if (!diverged(report)) {
@@ -107,6 +139,27 @@ FrameRecord SimulationRun::record() const {
       f.largest_stretch =
           std::max(f.largest_stretch,
                    (d.positions()[ends[1]] - d.positions()[ends[0]]).norm() / rest_lengths_[b][e]);
+    }
+    rec.kinetic_energy += f.kinetic_energy;
+    rec.bodies.push_back(f);
+  }
+  std::vector<std::shared_ptr<const RigidSurface>> surfaces;
+  const std::vector<Eigen::Isometry3d> poses = colliderPoses();
+  if (!hair_.empty())
+    for (std::size_t c = 0; c < scene_.colliders.size(); ++c)
+      surfaces.push_back(scene_.colliders[c].shape.makeSurface(poses[c]));
+  for (const auto& h : hair_) {
+    BodyFrame f;
+    f.kinetic_energy = h->kineticEnergy();
+    for (int s = 0; s < h->numStrands(); ++s) {
+      const rod::DiscreteElasticRod& rod = h->strand(s);
+      const auto& x = rod.positions();
+      for (int j = 0; j < rod.numEdges(); ++j)
+        f.largest_stretch =
+            std::max(f.largest_stretch, (x[j + 1] - x[j]).norm() / rod.restLength(j));
+      for (const auto& surface : surfaces)
+        for (const auto& p : x)
+          f.deepest_penetration = std::max(f.deepest_penetration, -surface->project(p).gap);
     }
     rec.kinetic_energy += f.kinetic_energy;
     rec.bodies.push_back(f);

@@ -1,6 +1,7 @@
 #pragma once
 #include <string>
 #include <vector>
+#include "cloth_hair_sim/core/rod/groom.h"
 
 #include <Eigen/Core>
 
@@ -28,5 +29,9 @@ inline void writePly(const std::string& path, const QuadMesh& mesh) {
 // of a sequence. Throws InputError if the file cannot be written.
 void writeSurfaceObj(const std::string& path, const DisplaySurface& surface);
 void writeSurfacePly(const std::string& path, const DisplaySurface& surface);
+// Strands (hair) as polylines: OBJ `l` lines, PLY `edge` elements (Blender and MeshLab read
+// both as curves/edges).
+void writeStrandsObj(const std::string& path, const rod::Polylines& strands);
+void writeStrandsPly(const std::string& path, const rod::Polylines& strands);
 
 }  // namespace chs

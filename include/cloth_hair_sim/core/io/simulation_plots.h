@@ -13,9 +13,11 @@ namespace chs {
 // Pictures of a simulate run, drawn by gnuplot (see runGnuplot); throw std::runtime_error on
 // failure.
 
-// One frame as PNG: a shaded 3D view and a front view (x-z) of the bodies' display surfaces,
-// one colour per body, and the colliders at their poses in grey.
+// One frame as PNG: a shaded 3D view and a front view (x-z) of the bodies' display surfaces
+// and the hair's strands (as lines), one colour per body (names: bodies, then hair), and the
+// colliders at their poses in grey.
 void plotSimulationFrame(const std::vector<DisplaySurface>& bodies,
+                         const std::vector<rod::Polylines>& hair,
                          const std::vector<std::string>& body_names,
                          const std::vector<SimulationCollider>& colliders,
                          const std::vector<Eigen::Isometry3d>& collider_poses,

@@ -9,6 +9,9 @@
 #include "cloth_hair_sim/core/contact/scripted_motion.h"
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_hair_sim/core/rod/groom.h"
+#include "cloth_hair_sim/core/rod/hair_dynamics.h"
+#include "cloth_hair_sim/core/rod/rod_material.h"
 #include "cloth_hair_sim/core/world/world.h"
 
 namespace chs {
@@ -32,7 +35,7 @@ namespace chs {
 //     safety: fraction of the explicit stability bound taken (default 0.5)
 //     cfl: fraction of dx a particle may move in a step (default 0.3)
 //     display_segments: n               (limit-surface triangles per face edge in the meshes)
-//   bodies: a list (at least one) of
+//   bodies: a list of garments (bodies and hair: at least one in all), each
 //     name: a letter, then letters, digits or _   (default body<i>)
 //     rectangle: {size: [lx, ly], cells: [nx, ny], centre: [x, y, z]}  or
 //     mesh: path | {file: path, scale: s}        (quad mesh; path relative to the scene)
@@ -43,6 +46,18 @@ namespace chs {
 //       or one of {vertex: i}, {vertices: [..]}, {nearest: [x, y, z]},
 //       {plane: {axis: x|y|z, value, tolerance}}, {box: {min, max}}, {boundary: true}
 //     velocity: [vx, vy, vz]            (initial, of the free vertices)
+//   hair: a list of hair bodies (discrete elastic rods, rod/hair_dynamics.h), each
+//     name: as for bodies               (default hair<i>; unique among bodies and hair)
+//     groom: {strands, length, segments, radii: r | [a, b, c], centre: [x, y, z],
+//       direction: [..], cone_angle: rad, curl_radius, curl_pitch, seed}  (rod/groom.h) or
+//     file: path | {file: path, scale: s, segments: n}  (io/strand_file.h; resampled to n)
+//     position: [x, y, z], rotation: [roll, pitch, yaw]  (the groom's pose; default none)
+//     material: human_hair | {preset, young, shear, radius, density}
+//     roots: fixed | loose | <collider name>  (clamped in place, free, or carried by that
+//       collider's scripted motion; default fixed)
+//     pic_blend: xi of Han (4.12)      (default 0)
+//     continuum: {enabled, youngs_modulus, poisson_ratio, friction, contact_blend}
+//       (the strands' frictional contact on the grid, HairSettings::continuum; default off)
 //   colliders: a list of
 //     name: as for bodies               (default: the kind and its index, e.g. sphere0)
 //     one kind: plane: {} (solid below the frame's z = 0) | sphere: {radius}
@@ -59,6 +74,17 @@ struct SimulationBody {
   DrapeProblem problem;  // the posed mesh, material, gravity and pins (bc.pinned), no colliders
   std::string material_name;
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+struct SimulationHair {
+  std::string name;
+  rod::Polylines strands;  // posed, in world coordinates at t = 0
+  rod::RodMaterial material;
+  std::string material_name;
+  std::string roots = "fixed";  // fixed, loose or a collider's name
+  int root_collider = -1;       // its index among the scene's colliders, or -1
+  double pic_blend = 0.0;
+  rod::StrandContinuumSettings continuum;
 };
 
 struct SimulationCollider {
@@ -84,6 +110,7 @@ struct SimulationScene {
   WorldSettings world;
   HybridShellSettings shell;  // every body's; grid spacing and kernel degree are the world's
   std::vector<SimulationBody> bodies;
+  std::vector<SimulationHair> hair;
   std::vector<SimulationCollider> colliders;
 
   // Frames after the initial state: duration * frame_rate, rounded up.

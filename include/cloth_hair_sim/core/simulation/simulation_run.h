@@ -8,15 +8,18 @@
 
 #include "cloth_hair_sim/core/io/simulation_scene.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_hair_sim/core/rod/hair_dynamics.h"
 #include "cloth_hair_sim/core/world/world.h"
 
 namespace chs {
 
 // What one body looked like at the end of a frame.
 struct BodyFrame {
-  double kinetic_energy = 0.0;       // J
-  double deepest_penetration = 0.0;  // m, of the limit surface into the colliders
-  double largest_stretch = 1.0;      // largest control-edge length over its reference length
+  double kinetic_energy = 0.0;  // J
+  // m, of a garment's limit surface, or of a hair's vertices, into the colliders
+  double deepest_penetration = 0.0;
+  // largest control-edge (garment) or segment (hair) length over its reference length
+  double largest_stretch = 1.0;
 };
 
 // One recorded frame: frame 0 is the initial state (no substeps, no wall time).
@@ -28,7 +31,7 @@ struct FrameRecord {
   int rollbacks = 0;         // diverged steps rolled back and retried as halves
   int unconverged = 0;       // steps whose implicit solve fell short (redone explicitly)
   double kinetic_energy = 0.0;
-  std::vector<BodyFrame> bodies;  // as the scene's bodies
+  std::vector<BodyFrame> bodies;  // as the scene's bodies, then its hair
   // Per collider: World::colliderLoads over the frame's substeps, weighted by their length; the
   // moment about the collider frame's origin at the frame's end.
   std::vector<ColliderLoad> collider_loads;
@@ -42,8 +45,9 @@ struct FrameRecord {
 // stops the run where the last good substep left it.
 class SimulationRun {
  public:
-  // Builds the bodies (HybridShellDynamics on the world's grid). Throws InputError for a body
-  // the shell refuses.
+  // Builds the bodies (HybridShellDynamics on the world's grid) and the hair (HairDynamics on
+  // it; dx 1 cm when the world has no spacing of its own and no garment). Throws InputError for
+  // a body the shell or the rods refuse.
   explicit SimulationRun(const SimulationScene& scene, int max_halvings = 4);
 
   int numFrames() const { return scene_.numFrames(); }
@@ -61,6 +65,8 @@ class SimulationRun {
   const World& world() const { return world_; }
   int numBodies() const { return static_cast<int>(bodies_.size()); }
   const HybridShellDynamics& body(int i) const { return *bodies_[i]; }
+  int numHair() const { return static_cast<int>(hair_.size()); }
+  const rod::HairDynamics& hair(int i) const { return *hair_[i]; }
   // Collider frames now, as the scene's colliders.
   std::vector<Eigen::Isometry3d> colliderPoses() const;
 
@@ -71,6 +77,8 @@ class SimulationRun {
   // step still diverged (the world is then at the last good state).
   bool guardedStep(double dt, int depth, FrameRecord& rec, std::vector<ColliderLoad>& load_sum);
   bool diverged(const WorldStepReport& report) const;
+  // Hair roots carried by their collider to its pose at t (HairDynamics::setRootFrame).
+  void placeRoots(double t);
 
   SimulationScene scene_;
   int max_halvings_;
@@ -79,6 +87,7 @@ class SimulationRun {
   // Per body: the control mesh's edges and their reference lengths.
   std::vector<std::vector<std::array<int, 2>>> edges_;
   std::vector<std::vector<double>> rest_lengths_;
+  std::vector<std::shared_ptr<rod::HairDynamics>> hair_;
   int frames_done_ = 0;
   std::string stop_reason_;
 };
