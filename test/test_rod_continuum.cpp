@@ -193,6 +193,14 @@ double flyingApart(double xi) {
         worst = std::max(
             worst,
             (u - Vec3(0, 0, s < b.hair->numStrands() / 2 ? -0.2 : 0.2)).lpNorm<Eigen::Infinity>());
+    if (xi == 0.0) EXPECT_EQ(b.hair->lastContinuum().compressed, 0);
+  }
+  if (xi == 0.0) {  // the bulk is left unstrained: F^E a rotation at every vertex
+    for (int s = 0; s < b.hair->numStrands(); ++s)
+      for (int i = 0; i < b.hair->strand(s).numVertices(); ++i) {
+        const Mat3& F = b.hair->bulkDeformation(s, i);
+        EXPECT_LT((F.transpose() * F - Mat3::Identity()).norm(), 1e-12);
+      }
   }
   return worst;
 }
@@ -212,13 +220,14 @@ struct Collision {
   std::size_t crossings;
   double v_low, v_high, gap, k_ratio, p_err;
   int reset, substeps;
+  long compressed, slid;  // vertex-steps pressed into other strands, of which sliding
 };
 Collision collide(bool continuum, double xi, double contact_blend) {
   Bundles b(continuum, 0.016, 0.3, -0.3, 1000.0, 0.004, true, 8, xi, contact_blend);
   const Vec3 p0 = b.hair->linearMomentum();
   const double k0 = b.hair->kineticEnergy();
   std::vector<Vec3> x0 = b.positions();
-  Collision c{0, 0, 0, 0, 1.0, 0, 0, 0};
+  Collision c{0, 0, 0, 0, 1.0, 0, 0, 0, 0, 0};
   for (int step = 0; step < 60; ++step) {
     b.world.step(1.0 / 240.0);
     const std::vector<Vec3> x1 = b.positions();
@@ -228,6 +237,8 @@ Collision collide(bool continuum, double xi, double contact_blend) {
     c.p_err =
         std::max(c.p_err, (b.hair->linearMomentum() - p0).norm() / (0.3 * b.hair->totalMass()));
     c.reset += b.hair->lastContinuum().reset;
+    c.compressed += b.hair->lastContinuum().compressed;
+    c.slid += b.hair->lastContinuum().slid;
     c.substeps = std::max(c.substeps, b.hair->lastContinuum().substeps);
   }
   double z_low = 0.0, z_high = 0.0;
@@ -248,8 +259,10 @@ TEST(HairContinuum, BundlesFlyingTogetherBounceWithoutCrossing) {
     std::printf(
         "  %-34s missed crossings %5zu, speeds after %+.3f / %+.3f m/s (+0.3 / -0.3 "
         "before), centres %+.1f mm apart, kinetic energy at most %.4f of the start, "
-        "momentum kept to %.1e of m v, %d substeps, %d resets\n",
-        what, c.crossings, c.v_low, c.v_high, 1e3 * c.gap, c.k_ratio, c.p_err, c.substeps, c.reset);
+        "momentum kept to %.1e of m v, %d substeps, %d resets, %ld vertex-steps compressed "
+        "(%ld sliding)\n",
+        what, c.crossings, c.v_low, c.v_high, 1e3 * c.gap, c.k_ratio, c.p_err, c.substeps, c.reset,
+        c.compressed, c.slid);
   };
   std::printf(
       "crossed bundles (2 x 64 strands, 7 mm thick, dx 4 mm) closing at 0.6 m/s, 0.25 s:\n");
@@ -279,6 +292,8 @@ TEST(HairContinuum, BundlesFlyingTogetherBounceWithoutCrossing) {
   EXPECT_LE(contact.k_ratio, 1.0 + 1e-9);
   EXPECT_LT(contact.p_err, 1e-9);
   EXPECT_EQ(contact.reset, 0);
+  EXPECT_GT(contact.compressed, 0);
+  EXPECT_EQ(none.compressed, 0);
 }
 
 // A strand alone is no contact: a clamped 10 cm hair swinging under gravity for 0.5 s (dx 1 cm,
