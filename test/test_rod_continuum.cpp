@@ -193,7 +193,9 @@ double flyingApart(double xi) {
         worst = std::max(
             worst,
             (u - Vec3(0, 0, s < b.hair->numStrands() / 2 ? -0.2 : 0.2)).lpNorm<Eigen::Infinity>());
-    if (xi == 0.0) EXPECT_EQ(b.hair->lastContinuum().compressed, 0);
+    if (xi == 0.0) {
+      EXPECT_EQ(b.hair->lastContinuum().compressed, 0);
+    }
   }
   if (xi == 0.0) {  // the bulk is left unstrained: F^E a rotation at every vertex
     for (int s = 0; s < b.hair->numStrands(); ++s)
