@@ -48,7 +48,10 @@ void share(const mpm::SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
                 std::lower_bound(merged.begin(), merged.end(), std::make_pair(node, -1.0));
             mine += w * it->second;
           }
-      out[p] = all > 0.0 ? std::clamp(1.0 - mine / all, 0.0, 1.0) : 0.0;
+      // Below 1e-9 (as transferToGrid drops nodes below 1e-9 of a vertex's mass) it is the
+      // rounding of a strand alone, whose own masses summed in another order than the grid's.
+      const double other = all > 0.0 ? std::clamp(1.0 - mine / all, 0.0, 1.0) : 0.0;
+      out[p] = other > 1e-9 ? other : 0.0;
     }
   });
 }
