@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/io/mesh_writer.h"
 #include "cloth_hair_sim/core/io/strand_file.h"
 #include "cloth_hair_sim/core/rod/groom.h"
 
@@ -222,6 +223,71 @@ TEST(StrandFile, YukselHairReadsBack) {
                 segments_array ? "with" : "without", err);
     EXPECT_LT(err, 1e-7);
   }
+}
+
+// PLY strands: what the simulate tool writes (io/mesh_writer.h writeStrandsPly) reads back,
+// and a binary little-endian file with float vertices, int edges and an extra property.
+TEST(StrandFile, PlyReadsBack) {
+  GroomSettings g;
+  g.strands = 15;
+  g.segments = 6;
+  const Polylines groom = groomScalp(g);
+  const std::string path = tempPath("strands.ply");
+  writeStrandsPly(path, groom);
+  const Polylines s = readStrandFile(path);
+  ASSERT_EQ(s.size(), groom.size());
+  double err = 0.0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    ASSERT_EQ(s[k].size(), groom[k].size());
+    for (std::size_t i = 0; i < s[k].size(); ++i)
+      err = std::max(err, (s[k][i] - groom[k][i]).norm());
+  }
+  std::printf("[figure] ascii PLY strands: 15 strands read back, largest error %.2e m\n", err);
+  EXPECT_LT(err, 1e-9);
+
+  std::string bin =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nproperty uchar red\nelement edge 2\n"
+      "property int vertex1\nproperty int vertex2\nend_header\n";
+  auto put = [&bin](auto v) { bin.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  for (float z : {0.0f, -0.05f, -0.1f}) put(1.0f), put(2.0f), put(z), put(std::uint8_t(7));
+  put(std::int32_t(1)), put(std::int32_t(2)), put(std::int32_t(0)), put(std::int32_t(1));
+  const std::string binary = tempPath("binary.ply");
+  writeBytes(binary, bin);
+  const Polylines b = readStrandFile(binary);
+  ASSERT_EQ(b.size(), 1u);
+  ASSERT_EQ(b[0].size(), 3u);
+  EXPECT_EQ(b[0][0], Vec3(1, 2, 0));  // from the lower-numbered end
+  EXPECT_NEAR(b[0][2].z(), -0.1, 1e-7);
+
+  const std::string bad = tempPath("bad.ply");
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+      "property double z\n";
+  writeText(bad, head +
+                     "element edge 3\nproperty int vertex1\nproperty int vertex2\n"
+                     "end_header\n0 0 0\n0 0 1\n0 1 0\n1 0 0\n0 1\n0 2\n0 3\n");
+  expectRefused(bad, "a branch");
+  writeText(bad, head +
+                     "element edge 3\nproperty int vertex1\nproperty int vertex2\n"
+                     "end_header\n0 0 0\n0 0 1\n0 1 0\n1 0 0\n0 1\n1 2\n2 0\n");
+  expectRefused(bad, "closed loop");
+  writeText(bad, head +
+                     "element edge 1\nproperty int vertex1\nproperty int vertex2\n"
+                     "end_header\n0 0 0\n0 0 1\n0 1 0\n1 0 0\n0 9\n");
+  expectRefused(bad, "edge to vertex 9");
+  writeText(bad, head +
+                     "element face 1\nproperty list uchar int vertex_indices\n"
+                     "end_header\n0 0 0\n0 0 1\n0 1 0\n1 0 0\n3 0 1 2\n");
+  expectRefused(bad, "a mesh, not strands");
+  writeText(bad, head +
+                     "element edge 2\nproperty int vertex1\nproperty int vertex2\n"
+                     "end_header\n0 0 0\n0 0 1\n0 1 0\n1 0 0\n0 1\n");
+  expectRefused(bad, "truncated");
+  writeText(bad, "ply\nformat binary_big_endian 1.0\nelement vertex 0\nend_header\n");
+  expectRefused(bad, "binary_big_endian");
+  writeText(bad, "solid x\n");
+  expectRefused(bad, "not a PLY file");
 }
 
 TEST(StrandFile, BadFilesRefused) {

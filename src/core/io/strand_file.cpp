@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "strand_ply.h"
 
 namespace chs {
 namespace {
@@ -133,7 +134,9 @@ rod::Polylines readText(const std::string& path, const std::string& bytes) {
 
 rod::Polylines readStrandFile(const std::string& path) {
   const std::string bytes = readAll(path);
-  rod::Polylines strands = endsWith(path, ".hair") ? readHair(path, bytes) : readText(path, bytes);
+  rod::Polylines strands = endsWith(path, ".hair")  ? readHair(path, bytes)
+                           : endsWith(path, ".ply") ? readStrandPly(path, bytes)
+                                                    : readText(path, bytes);
   try {
     rod::checkStrands(strands, rod::kMaxStrandFileVertices);
   } catch (const InputError& e) {

@@ -23,7 +23,11 @@ namespace chs {
 // float thickness per point, float transparency per point, float[3] colour per point. Only the
 // points and segments are read; a file without points is refused.
 //
-// Both throw InputError naming the file and the problem: missing, unreadable, truncated, a count
+// PLY (.ply): vertices and edges, ascii or binary little endian, each strand a chain of edges
+// read from its lower-numbered end (what the simulate tool writes for hair; details in
+// src/core/io/strand_ply.h).
+//
+// All throw InputError naming the file and the problem: missing, unreadable, truncated, a count
 // that disagrees, or strands that rod::checkStrands refuses (NaN, zero length, duplicate
 // vertices, beyond the documented limits).
 rod::Polylines readStrandFile(const std::string& path);
