@@ -1083,6 +1083,15 @@ bool SimNode::saveState(cloth_hair_sim::StateFile::Request& req,
   std::string payload, summary;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    // A state file holds garments and their grasps only: saving with hair would drop it
+    // without a word, so it is refused until the format holds hair.
+    if (!hairs_.empty()) {
+      res.message = "save_state: hair '" + hairs_.begin()->first +
+                    "' is loaded and state files do not hold hair yet; ~remove_hair it to save "
+                    "the garments";
+      ROS_WARN("%s", res.message.c_str());
+      return true;
+    }
     payload = encodeSimulation(params_.dynamics_backend,
                                {sim_time_, steps_, paused_, rollbacks_, unconverged_solves_},
                                garments_, grasps_);
@@ -1112,6 +1121,11 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
     // Read, rebuilt and checked before the running simulation is touched.
     SavedSimulation saved = readSimulation(req.path, params_);
     std::lock_guard<std::mutex> lock(mutex_);
+    // The loaded world holds the saved garments only: hair loaded now would be left out of it.
+    if (!hairs_.empty())
+      throw chs::InputError("hair '" + hairs_.begin()->first +
+                            "' is loaded and state files do not hold hair yet; ~remove_hair it "
+                            "first");
     const chs::RigidSurfaces surfaces = colliders_.surfaces();
     const std::vector<double> frictions = colliders_.frictions();
     for (auto& [name, g] : saved.garments) {

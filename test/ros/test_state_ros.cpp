@@ -22,6 +22,7 @@
 #include "cloth_hair_sim/GraspGarment.h"
 #include "cloth_hair_sim/ListGarments.h"
 #include "cloth_hair_sim/LoadGarment.h"
+#include "cloth_hair_sim/LoadHair.h"
 #include "cloth_hair_sim/ReleaseGrasp.h"
 #include "cloth_hair_sim/RemoveGarment.h"
 #include "cloth_hair_sim/SimStatus.h"
@@ -212,6 +213,40 @@ TEST(StateFile, SaveChangeLoadBringsTheSimulationBack) {
   EXPECT_TRUE(ros::service::call("/sim/release", release) && release.response.success)
       << release.response.message;
   for (const std::string& p : {path, path + ".flipped", path + ".cut"}) std::remove(p.c_str());
+}
+
+// State files hold garments only: with hair loaded, saving and loading are refused (neither
+// drops the hair without a word), and once it is removed both work again.
+TEST(StateFile, HairIsRefusedNotDropped) {
+  ros::NodeHandle nh;
+  for (const char* s : {"/sim/load_hair", "/sim/remove_hair"})
+    ASSERT_TRUE(ros::service::waitForService(s, ros::Duration(20.0))) << s;
+  const std::string path = "/tmp/chs_state_hair_" + std::to_string(getpid()) + ".state";
+  ASSERT_TRUE(stateCall("/sim/save_state", path).success);
+  cloth_hair_sim::LoadHair hair;
+  hair.request.name = "tuft";
+  hair.request.scalp_radii = {0.02};
+  hair.request.strands = 4;
+  hair.request.length = 0.03;
+  hair.request.segments = 4;
+  hair.request.material = "human_hair";
+  hair.request.display_strands = -1;
+  ASSERT_TRUE(ros::service::call("/sim/load_hair", hair) && hair.response.success)
+      << hair.response.message;
+  const auto save = stateCall("/sim/save_state", path + ".with_hair");
+  EXPECT_FALSE(save.success);
+  EXPECT_NE(save.message.find("hair 'tuft' is loaded"), std::string::npos) << save.message;
+  std::ifstream written(path + ".with_hair");
+  EXPECT_FALSE(written.good()) << "a refused save wrote a file";
+  const auto load = stateCall("/sim/load_state", path);
+  EXPECT_FALSE(load.success);
+  EXPECT_NE(load.message.find("hair 'tuft' is loaded"), std::string::npos) << load.message;
+  cloth_hair_sim::RemoveGarment remove;  // ~remove_hair takes the same request
+  remove.request.name = "tuft";
+  ASSERT_TRUE(ros::service::call("/sim/remove_hair", remove) && remove.response.success)
+      << remove.response.message;
+  EXPECT_TRUE(stateCall("/sim/load_state", path).success);
+  std::remove(path.c_str());
 }
 
 }  // namespace
