@@ -7,11 +7,11 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/rod/parallel_transport.h"
+#include "cloth_hair_sim/core/solver/banded_cholesky.h"
 
 namespace chs::rod {
 namespace {
@@ -95,9 +95,8 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   rod.commit();
   Eigen::VectorXd g(n);
   Triplets triplets;
-  // Natural ordering: the unknowns are already in band order (no fill outside the band).
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
-      ldlt;
+  // The unknowns are in band order (solver/banded_cholesky.h).
+  BandedCholesky cholesky;
   // The Newton matrix: the true Hessian where it is positive definite (quadratic convergence
   // near a stable equilibrium), else the element-wise projected one (a descent direction).
   // The gradient of Phi's terms besides the elasticity, at q, and the obstacles' Hessian.
@@ -158,28 +157,19 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
           triplets.emplace_back(k, k, 1.0);
         }
     }
-    Eigen::SparseMatrix<double> H(n, n);
-    H.setFromTriplets(triplets.begin(), triplets.end());
-    ldlt.compute(H);
-    const bool definite = ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0;
-    if (definite) {
-      dq = -ldlt.solve(g);
+    if (cholesky.factorize(n, triplets)) {
+      dq = -cholesky.solve(g);
       return true;
     }
     if (!project) return false;
     // Semi-definite blocks can still sum to a singular matrix (a free strand's rigid motions in
-    // a static solve): shift until LDL^T has positive pivots.
-    double diag_max = 0.0;
-    for (int k = 0; k < n; ++k) diag_max = std::max(diag_max, H.coeff(k, k));
-    for (double shift = 1e-12 * diag_max; shift <= diag_max; shift *= 10.0) {
-      Eigen::SparseMatrix<double> A = H;
-      for (int k = 0; k < n; ++k) A.coeffRef(k, k) += shift;
-      ldlt.compute(A);
-      if (ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0) {
-        dq = -ldlt.solve(g);
+    // a static solve): shift until the factorisation succeeds.
+    const double diag_max = cholesky.maxDiagonal();
+    for (double shift = 1e-12 * diag_max; shift <= diag_max; shift *= 10.0)
+      if (cholesky.factorize(n, triplets, shift)) {
+        dq = -cholesky.solve(g);
         return true;
       }
-    }
     return false;  // nothing to descend along
   };
 
