@@ -18,6 +18,7 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/contact/capsule_surface.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
+#include "cloth_hair_sim/core/io/state_stream.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
 #include "cloth_hair_sim/core/rod/hair_dynamics.h"
@@ -503,6 +504,69 @@ TEST(HairWorld, SnapshotRestores) {
   // finish.
   std::printf("hair snapshot: replay differs by %.3e m\n", diff);
   EXPECT_LT(diff, 1e-15);
+}
+
+// The state a file holds (HairDynamics::writeState): read into a body built with the same
+// strands, with the continuum on and a grip, it steps on as the original does; a record of
+// another body is refused and leaves the body as it was.
+TEST(HairWorld, StateRecordReadsBackAndStepsOn) {
+  HairSettings hs = settings();
+  hs.continuum.enabled = true;
+  auto build = [&] {
+    auto w = hairWorld(hs);
+    for (int k = 0; k < 3; ++k)
+      w->hair->addStrand(wavyStrand(Vec3(0.002 * k, 0.0, 0.1), Vec3::UnitX(), Vec3::UnitZ(), 0.004,
+                                    0.02, 0.06, 20),
+                         humanHair(), true);
+    return w;
+  };
+  auto a = build();
+  const int grip =
+      a->hair->addGrip(a->hair->freeVerticesNear(a->hair->strand(1).positions()[19], 0.004));
+  Eigen::Isometry3d lift = Eigen::Isometry3d::Identity();
+  for (int step = 1; step <= 20; ++step) {
+    lift.translation() = Vec3(0, 0, 0.0005 * step);
+    a->hair->setGripFrame(grip, lift);
+    a->world.step(1.0 / 240.0);
+  }
+  StateWriter out;
+  a->hair->writeState(out);
+  auto b = build();
+  b->hair->addGrip(b->hair->freeVerticesNear(b->hair->strand(1).positions()[19], 0.004));
+  StateReader in(out.data(), "record");
+  b->hair->readState(in);
+  in.expectEnd();
+  double worst = 0.0;
+  for (int step = 21; step <= 30; ++step) {
+    lift.translation() = Vec3(0, 0, 0.0005 * step);
+    for (auto* w : {a.get(), b.get()}) {
+      w->hair->setGripFrame(grip, lift);
+      w->world.step(1.0 / 240.0);
+    }
+  }
+  for (int s = 0; s < 3; ++s)
+    for (int i = 0; i < a->hair->strand(s).numVertices(); ++i)
+      worst = std::max(
+          worst, (a->hair->strand(s).positions()[i] - b->hair->strand(s).positions()[i]).norm());
+  std::printf(
+      "hair state record: %zu bytes; 10 steps on, read-back body %.3e m from the original "
+      "(time %.6f / %.6f s)\n",
+      out.data().size(), worst, a->hair->time(), b->hair->time());
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_DOUBLE_EQ(a->hair->time(), b->hair->time());
+
+  auto c = hairWorld(hs);  // one strand: another body
+  c->hair->addStrand(straightStrand(Vec3(0, 0, 0.1), Vec3::UnitX(), 0.06, 20), humanHair(), true);
+  const std::vector<Vec3> before = c->hair->strand(0).positions();
+  StateReader other(out.data(), "record");
+  try {
+    c->hair->readState(other);
+    ADD_FAILURE() << "a record of three strands was read into one";
+  } catch (const InputError& e) {
+    std::printf("refused: %s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("hair strands"), std::string::npos);
+  }
+  EXPECT_EQ(c->hair->strand(0).positions(), before);
 }
 
 TEST(HairWorld, BadInputIsRefused) {

@@ -125,6 +125,7 @@ Hair buildHair(const cloth_hair_sim::LoadHair::Request& req,
                const Eigen::Isometry3d& world_from_frame, const chs::rod::HairSettings& settings,
                int display_default) {
   Hair h;
+  h.request = req;
   h.name = req.name;
   h.frame_id = req.frame_id;
   h.loose = req.loose;

@@ -167,12 +167,13 @@ SimParams SimNode::garmentParams() const {
   return p;
 }
 
-chs::World SimNode::worldOf(const std::map<std::string, Garment>& garments) const {
+chs::World SimNode::worldOf(const std::map<std::string, Garment>& garments,
+                            const std::map<std::string, Hair>* hairs) const {
   chs::World world(params_.world);
   world.setColliders(colliders_.surfaces(), {}, colliders_.frictions());
   for (const auto& [name, g] : garments)
     if (g.body) world.add(name, g.body);
-  for (const auto& [name, h] : hairs_) world.add(name, h.body);
+  for (const auto& [name, h] : hairs ? *hairs : hairs_) world.add(name, h.body);
   return world;
 }
 
@@ -1083,19 +1084,11 @@ bool SimNode::saveState(cloth_hair_sim::StateFile::Request& req,
   std::string payload, summary;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    // A state file holds garments and their grasps only: saving with hair would drop it
-    // without a word, so it is refused until the format holds hair.
-    if (!hairs_.empty()) {
-      res.message = "save_state: hair '" + hairs_.begin()->first +
-                    "' is loaded and state files do not hold hair yet; ~remove_hair it to save "
-                    "the garments";
-      ROS_WARN("%s", res.message.c_str());
-      return true;
-    }
     payload = encodeSimulation(params_.dynamics_backend,
                                {sim_time_, steps_, paused_, rollbacks_, unconverged_solves_},
-                               garments_, grasps_);
-    summary = std::to_string(garments_.size()) + " garments, " + std::to_string(grasps_.size()) +
+                               garments_, grasps_, hairs_, hair_grasps_);
+    summary = std::to_string(garments_.size()) + " garments, " + std::to_string(hairs_.size()) +
+              " hair, " + std::to_string(grasps_.size() + hair_grasps_.size()) +
               " grasps at sim time " + std::to_string(sim_time_) + " s";
   }
   try {  // the file is written without holding up the simulation
@@ -1119,13 +1112,13 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
   }
   try {
     // Read, rebuilt and checked before the running simulation is touched.
-    SavedSimulation saved = readSimulation(req.path, params_);
+    chs::rod::HairSettings hair_settings;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      hair_settings = hairSettings();
+    }
+    SavedSimulation saved = readSimulation(req.path, params_, hair_settings, hair_display_strands_);
     std::lock_guard<std::mutex> lock(mutex_);
-    // The loaded world holds the saved garments only: hair loaded now would be left out of it.
-    if (!hairs_.empty())
-      throw chs::InputError("hair '" + hairs_.begin()->first +
-                            "' is loaded and state files do not hold hair yet; ~remove_hair it "
-                            "first");
     const chs::RigidSurfaces surfaces = colliders_.surfaces();
     const std::vector<double> frictions = colliders_.frictions();
     for (auto& [name, g] : saved.garments) {
@@ -1137,10 +1130,17 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
     for (auto& [name, grasp] : grasps_) grasp.wrench_pub.shutdown();
     for (auto& [name, grasp] : saved.grasps)
       grasp.wrench_pub = pnh_.advertise<geometry_msgs::WrenchStamped>("grasp_wrench/" + name, 10);
-    chs::World world = worldOf(saved.garments);  // refuses garments that do not fit one grid
+    for (auto& [name, h] : saved.hairs) h.body->setColliders(surfaces, {}, frictions);
+    // Refuses garments and hair that do not fit one grid (hair saved on another spacing).
+    chs::World world = worldOf(saved.garments, &saved.hairs);
+    for (auto& [name, grasp] : hair_grasps_) grasp.wrench_pub.shutdown();
+    for (auto& [name, grasp] : saved.hair_grasps)
+      grasp.wrench_pub = pnh_.advertise<geometry_msgs::WrenchStamped>("grasp_wrench/" + name, 10);
     garments_ = std::move(saved.garments);
     world_ = std::move(world);
     grasps_ = std::move(saved.grasps);
+    hairs_ = std::move(saved.hairs);
+    hair_grasps_ = std::move(saved.hair_grasps);
     sim_time_ = saved.clock.sim_time;
     steps_ = saved.clock.steps;
     paused_ = saved.clock.paused;
@@ -1149,7 +1149,8 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
     last_ = UpdateStats();
     res.success = true;
     res.message = "loaded " + std::to_string(garments_.size()) + " garments, " +
-                  std::to_string(grasps_.size()) + " grasps at sim time " +
+                  std::to_string(hairs_.size()) + " hair, " +
+                  std::to_string(grasps_.size() + hair_grasps_.size()) + " grasps at sim time " +
                   std::to_string(sim_time_) + " s from " + req.path + (paused_ ? " (paused)" : "");
     ROS_INFO("%s", res.message.c_str());
   } catch (const std::exception& e) {

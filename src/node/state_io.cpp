@@ -14,10 +14,12 @@ namespace chs_node {
 namespace {
 
 using Request = cloth_hair_sim::LoadGarment::Request;
+using HairRequest = cloth_hair_sim::LoadHair::Request;
 
 constexpr const char* kTag = "cloth_hair_sim simulation";
 
-std::string serialized(const Request& req) {
+template <class Message>
+std::string serialized(const Message& req) {
   const std::uint32_t n = ros::serialization::serializationLength(req);
   std::vector<std::uint8_t> bytes(n);
   ros::serialization::OStream s(bytes.data(), n);
@@ -25,16 +27,17 @@ std::string serialized(const Request& req) {
   return std::string(bytes.begin(), bytes.end());
 }
 
-Request deserialized(const std::string& text, chs::StateReader& in) {
+template <class Message>
+Message deserialized(const std::string& text, chs::StateReader& in, const char* what) {
   std::vector<std::uint8_t> bytes(text.begin(), text.end());
   ros::serialization::IStream s(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
-  Request req;
+  Message req;
   try {
     ros::serialization::deserialize(s, req);
   } catch (const ros::serialization::StreamOverrunException&) {
-    in.fail("a LoadGarment request is truncated");
+    in.fail(std::string("a ") + what + " request is truncated");
   }
-  if (s.getLength() != 0) in.fail("a LoadGarment request has trailing bytes");
+  if (s.getLength() != 0) in.fail(std::string("a ") + what + " request has trailing bytes");
   return req;
 }
 
@@ -79,7 +82,7 @@ void writeGarment(chs::StateWriter& out, const Garment& g) {
 Garment readGarment(chs::StateReader& in, const SimParams& params) {
   const std::string name = in.text("garment name");
   const std::uint64_t colour = in.u64("garment colour");
-  const Request req = deserialized(in.text("LoadGarment request"), in);
+  const Request req = deserialized<Request>(in.text("LoadGarment request"), in, "LoadGarment");
   if (req.name != name) in.fail("garment '" + name + "': its request names '" + req.name + "'");
   const Eigen::Isometry3d world_from_request_frame = readPose(in, "garment pose");
   std::map<std::string, Eigen::Isometry3d> frames;
@@ -159,15 +162,97 @@ Grasp readGrasp(chs::StateReader& in, const std::map<std::string, Garment>& garm
   return g;
 }
 
+void writeHair(chs::StateWriter& out, const Hair& h) {
+  out.text(h.name);
+  out.text(serialized(h.request));
+  writePose(out, h.attached_at);
+  writePose(out, h.from);
+  writePose(out, h.to);
+  out.u64(h.stale);
+  out.real(h.body->settings().grid_spacing);
+  h.body->writeState(out);
+}
+
+Hair readHair(chs::StateReader& in, chs::rod::HairSettings settings, int display_default) {
+  const std::string name = in.text("hair name");
+  const HairRequest req = deserialized<HairRequest>(in.text("LoadHair request"), in, "LoadHair");
+  if (req.name != name) in.fail("hair '" + name + "': its request names '" + req.name + "'");
+  const Eigen::Isometry3d attached_at = readPose(in, "hair root frame");
+  const Eigen::Isometry3d from = readPose(in, "hair root frame start");
+  const Eigen::Isometry3d to = readPose(in, "hair root frame end");
+  const bool stale = in.u64("hair staleness") != 0;
+  settings.grid_spacing = in.real("hair grid spacing");
+  Hair h;
+  try {
+    h = buildHair(req, attached_at, settings, display_default);
+  } catch (const std::exception& e) {
+    in.fail("hair '" + name + "' cannot be rebuilt: " + e.what());
+  }
+  try {
+    h.body->readState(in);
+  } catch (const chs::InputError& e) {
+    throw chs::InputError(std::string(e.what()) + " (hair '" + name + "': its strands changed?)");
+  }
+  h.from = from;
+  h.to = to;
+  h.stale = stale;
+  return h;
+}
+
+void writeHairGrasp(chs::StateWriter& out, const HairGrasp& g) {
+  out.text(g.name);
+  out.text(g.hair);
+  out.text(g.frame_id);
+  out.u64(static_cast<std::uint64_t>(g.grip));
+  writePose(out, g.attached_at);
+  writePose(out, g.from);
+  writePose(out, g.to);
+  out.u64(g.stale);
+  out.vectors({g.sum.force, g.sum.torque});
+  out.u64(static_cast<std::uint64_t>(g.samples));
+}
+
+HairGrasp readHairGrasp(chs::StateReader& in, const std::map<std::string, Hair>& hairs) {
+  HairGrasp g;
+  g.name = in.text("hair grasp name");
+  g.hair = in.text("hair grasp hair");
+  g.frame_id = in.text("hair grasp frame");
+  g.grip = static_cast<int>(in.u64("hair grasp grip"));
+  const std::string who = "grasp '" + g.name + "': ";
+  std::string error;
+  if (g.name.empty() || g.name.find('/') != std::string::npos ||
+      !ros::names::validate(g.name, error))
+    in.fail(who + "not a valid grasp name");
+  const auto hair = hairs.find(g.hair);
+  if (hair == hairs.end()) in.fail(who + "its hair '" + g.hair + "' is not saved");
+  try {
+    hair->second.body->gripVertices(g.grip);
+  } catch (const chs::InputError&) {
+    in.fail(who + "its grip is not in hair '" + g.hair + "'");
+  }
+  g.attached_at = readPose(in, "hair grasp pose");
+  g.from = readPose(in, "hair grasp start pose");
+  g.to = readPose(in, "hair grasp end pose");
+  g.stale = in.u64("hair grasp staleness") != 0;
+  const std::vector<Eigen::Vector3d> sum = in.vectors("hair grasp wrench sum", 2);
+  g.sum.force = sum[0];
+  g.sum.torque = sum[1];
+  g.samples = static_cast<int>(in.u64("hair grasp wrench samples"));
+  return g;
+}
+
 }  // namespace
 
 std::string encodeSimulation(const std::string& backend, const SimClock& clock,
                              const std::map<std::string, Garment>& garments,
-                             const std::map<std::string, Grasp>& grasps) {
+                             const std::map<std::string, Grasp>& grasps,
+                             const std::map<std::string, Hair>& hairs,
+                             const std::map<std::string, HairGrasp>& hair_grasps) {
   chs::StateWriter out;
   out.text(kTag);
-  // A LoadGarment of another definition would deserialise into the wrong fields.
+  // A request of another definition would deserialise into the wrong fields.
   out.text(ros::message_traits::md5sum<Request>());
+  out.text(ros::message_traits::md5sum<HairRequest>());
   out.text(backend);
   out.real(clock.sim_time);
   out.u64(clock.steps);
@@ -178,15 +263,22 @@ std::string encodeSimulation(const std::string& backend, const SimClock& clock,
   for (const auto& [name, g] : garments) writeGarment(out, g);
   out.u64(grasps.size());
   for (const auto& [name, g] : grasps) writeGrasp(out, g);
+  out.u64(hairs.size());
+  for (const auto& [name, h] : hairs) writeHair(out, h);
+  out.u64(hair_grasps.size());
+  for (const auto& [name, g] : hair_grasps) writeHairGrasp(out, g);
   return out.data();
 }
 
-SavedSimulation readSimulation(const std::string& path, const SimParams& params) {
+SavedSimulation readSimulation(const std::string& path, const SimParams& params,
+                               const chs::rod::HairSettings& hair, int display_default) {
   chs::StateReader in(chs::readStateFile(path), path);
   in.expectText(kTag, "contents");
   const std::string md5 = in.text("LoadGarment definition");
   if (md5 != ros::message_traits::md5sum<Request>())
     in.fail("saved by a build whose LoadGarment service has another definition");
+  if (in.text("LoadHair definition") != ros::message_traits::md5sum<HairRequest>())
+    in.fail("saved by a build whose LoadHair service has another definition");
   const std::string backend = in.text("dynamics backend");
   if (backend != params.dynamics_backend)
     in.fail("saved with dynamics_backend '" + backend + "', this node runs '" +
@@ -212,6 +304,20 @@ SavedSimulation readSimulation(const std::string& path, const SimParams& params)
     Grasp g = readGrasp(in, s.garments);
     const std::string name = g.name;
     if (!s.grasps.emplace(name, std::move(g)).second) in.fail("grasp '" + name + "' twice");
+  }
+  const std::uint64_t n_hairs = in.u64("hair count");
+  for (std::uint64_t k = 0; k < n_hairs; ++k) {
+    Hair h = readHair(in, hair, display_default);
+    const std::string name = h.name;
+    if (s.garments.count(name) || !s.hairs.emplace(name, std::move(h)).second)
+      in.fail("hair '" + name + "' twice, or a garment of its name");
+  }
+  const std::uint64_t n_hair_grasps = in.u64("hair grasp count");
+  for (std::uint64_t k = 0; k < n_hair_grasps; ++k) {
+    HairGrasp g = readHairGrasp(in, s.hairs);
+    const std::string name = g.name;
+    if (s.grasps.count(name) || !s.hair_grasps.emplace(name, std::move(g)).second)
+      in.fail("grasp '" + name + "' twice");
   }
   in.expectEnd();
   return s;

@@ -20,6 +20,7 @@ namespace chs_node {
 // each substep moves the clamps to the interpolated pose (HairDynamics::setRootFrame).
 struct Hair {
   std::string name, material_name, frame_id;
+  cloth_hair_sim::LoadHair::Request request;  // what built it (a state file rebuilds from it)
   chs::rod::Polylines rest;  // the guides' rest shapes in the root frame's coordinates
   chs::rod::RodMaterial material;
   std::vector<chs::rod::DisplayStrand> display;  // blended from the guides for the markers

@@ -121,9 +121,10 @@ class SimNode {
                     const std::vector<double>& frictions);
   // Under mutex_: the parameters a garment is built with: on the world's grid once it has one.
   SimParams garmentParams() const;
-  // A world holding the mpm garments and the hair (throws chs::InputError for a body that does
-  // not fit).
-  chs::World worldOf(const std::map<std::string, Garment>& garments) const;
+  // A world holding the mpm garments and the hair, the node's own unless given (throws
+  // chs::InputError for a body that does not fit).
+  chs::World worldOf(const std::map<std::string, Garment>& garments,
+                     const std::map<std::string, Hair>* hairs = nullptr) const;
   // Under mutex_: one substep of the world's garments together; a diverged step or an implicit
   // solve short of its tolerance is rolled back and retried as two halves, a few levels deep.
   void stepWorld(double h, int depth);

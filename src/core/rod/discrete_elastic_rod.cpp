@@ -281,4 +281,32 @@ void DiscreteElasticRod::setNaturalShape(const std::vector<Eigen::Vector2d>& cur
   }
 }
 
+void DiscreteElasticRod::writeState(StateWriter& out) const {
+  out.vectors(x_);
+  out.reals(theta_);
+  out.vectors(base_t_);
+  out.vectors(base_d1_);
+  out.reals(base_ref_twist_);
+  std::vector<double> kappa;
+  for (const auto& k : rest_kappa_) kappa.insert(kappa.end(), {k[0], k[1]});
+  out.reals(kappa);
+  out.reals(rest_twist_);
+}
+
+void DiscreteElasticRod::readState(StateReader& in) {
+  const std::size_t nv = x_.size(), ne = theta_.size();
+  std::vector<Eigen::Vector3d> x = in.vectors("strand positions", nv);
+  std::vector<double> theta = in.reals("strand angles", ne);
+  base_t_ = in.vectors("strand reference tangents", base_t_.size());
+  base_d1_ = in.vectors("strand reference directors", base_d1_.size());
+  base_ref_twist_ = in.reals("strand reference twists", base_ref_twist_.size());
+  const std::vector<double> kappa = in.reals("strand natural curvatures", 2 * rest_kappa_.size());
+  for (std::size_t i = 0; i < rest_kappa_.size(); ++i)
+    rest_kappa_[i] = Eigen::Vector2d(kappa[2 * i], kappa[2 * i + 1]);
+  rest_twist_ = in.reals("strand natural twists", rest_twist_.size());
+  x_ = std::move(x);
+  theta_ = std::move(theta);
+  updateFrames();
+}
+
 }  // namespace chs::rod

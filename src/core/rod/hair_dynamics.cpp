@@ -688,6 +688,88 @@ void HairDynamics::setColliders(const RigidSurfaces& colliders,
   collider_impulse_.assign(colliders_.size(), mpm::ColliderImpulse());
 }
 
+void HairDynamics::writeState(StateWriter& out) const {
+  out.text("hair");
+  out.u64(strands_.size());
+  for (const Strand& s : strands_) {
+    s.rod.writeState(out);
+    out.vectors(s.v);
+    out.reals(s.omega);
+    out.matrix(s.pose.matrix());
+    out.ints(s.grip);
+    out.vectors(s.grip_x);
+    out.vectors(s.hold_force);
+    out.vectors({s.clamp.force, s.clamp.torque});
+  }
+  out.u64(grips_.size());
+  for (const auto& [id, g] : grips_) {
+    out.u64(static_cast<std::uint64_t>(id));
+    std::vector<int> v;
+    for (const StrandVertex& sv : g.vertices) v.insert(v.end(), {sv.strand, sv.vertex});
+    out.ints(v);
+    out.matrix(g.motion.matrix());
+  }
+  out.u64(static_cast<std::uint64_t>(next_grip_));
+  out.reals(particles_.mass);  // grips move mass off the grid
+  out.matrices(particles_.C);
+  out.matrices(particles_.F);
+  out.real(time_);
+}
+
+void HairDynamics::readState(StateReader& in) {
+  in.expectText("hair", "body kind");
+  in.expectCount("hair strands", strands_.size());
+  std::vector<Strand> strands = strands_;
+  for (Strand& s : strands) {
+    s.rod.readState(in);
+    const std::size_t nv = s.rod.numVertices();
+    s.v = in.vectors("strand velocities", nv);
+    s.omega = in.reals("strand angle rates", s.rod.numEdges());
+    s.pose.matrix() = in.matrix("strand root frame");
+    s.grip = in.ints("strand grips");
+    if (s.grip.size() != nv) in.fail("strand grips of another vertex count");
+    s.grip_x = in.vectors("strand grip points", nv);
+    s.hold_force = in.vectors("strand hold forces", nv);
+    const std::vector<Vec3> clamp = in.vectors("strand clamp wrench", 2);
+    s.clamp.force = clamp[0];
+    s.clamp.torque = clamp[1];
+  }
+  std::map<int, Grip> grips;
+  const std::uint64_t n_grips = in.u64("grip count");
+  for (std::uint64_t k = 0; k < n_grips; ++k) {
+    const int id = static_cast<int>(in.u64("grip id"));
+    const std::vector<int> v = in.ints("grip vertices");
+    Grip g;
+    for (std::size_t i = 0; i + 1 < v.size(); i += 2) {
+      if (v[i] < 0 || v[i] >= numStrands() || v[i + 1] < 0 ||
+          v[i + 1] >= strands[v[i]].rod.numVertices())
+        in.fail("grip " + std::to_string(id) + " holds a vertex the hair does not have");
+      g.vertices.push_back(StrandVertex{v[i], v[i + 1]});
+    }
+    g.motion.matrix() = in.matrix("grip motion");
+    grips[id] = g;
+  }
+  const int next_grip = static_cast<int>(in.u64("next grip id"));
+  const std::size_t np = particles_.size();
+  std::vector<double> mass = in.reals("vertex masses on the grid", np);
+  std::vector<Eigen::Matrix3d> C = in.matrices("affine velocities", np);
+  std::vector<Eigen::Matrix3d> F = in.matrices("bulk deformation", np);
+  const double time = in.real("hair time");
+  // All read: now the body takes it.
+  strands_ = std::move(strands);
+  grips_ = std::move(grips);
+  next_grip_ = next_grip;
+  particles_.mass = std::move(mass);
+  particles_.C = std::move(C);
+  particles_.F = std::move(F);
+  for (const Strand& s : strands_)
+    for (int i = 0; i < s.rod.numVertices(); ++i) {
+      particles_.x[s.offset + i] = s.rod.positions()[i];
+      particles_.v[s.offset + i] = s.v[i];
+    }
+  time_ = time;
+}
+
 std::unique_ptr<DynamicsSnapshot> HairDynamics::snapshot() const {
   auto s = std::make_unique<HairSnapshot>();
   for (const Strand& strand : strands_) {

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "cloth_hair_sim/core/io/state_stream.h"
 #include "cloth_hair_sim/core/rod/rod_material.h"
 
 namespace chs::rod {
@@ -76,6 +77,12 @@ class DiscreteElasticRod {
   // imposed on it. Throws InputError for sizes that do not match or non-finite values.
   void setNaturalShape(const std::vector<Eigen::Vector2d>& curvature,
                        const std::vector<double>& twist);
+  // The rod's state for a state file: positions, angles, the committed reference frames the
+  // next step transports from, and the natural shape. readState takes it into a rod built from
+  // the same rest shape and material; throws InputError (from the reader) for a record of
+  // another vertex count.
+  void writeState(StateWriter& out) const;
+  void readState(StateReader& in);
 
   Eigen::VectorXd configuration() const;
   // Moves the rod to q (numDofs() values): reference frames transported from the committed

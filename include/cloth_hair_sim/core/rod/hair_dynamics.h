@@ -213,6 +213,12 @@ class HairDynamics : public Body {
   }
   std::unique_ptr<DynamicsSnapshot> snapshot() const override;
   void restore(const DynamicsSnapshot& snapshot) override;
+  // The whole state for a state file (io/state_stream.h): the strands, their velocities, root
+  // frames and holds, the grips, the particles' affine velocities and bulk deformation, the
+  // clock. readState takes it into a body built with the same strands (a ~load_hair request
+  // rebuilt); throws InputError naming what does not match. Colliders are not part of it.
+  void writeState(StateWriter& out) const;
+  void readState(StateReader& in);
 
  private:
   struct Strand {
