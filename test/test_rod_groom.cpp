@@ -203,6 +203,22 @@ TEST(StrandFile, TextReadsBack) {
   EXPECT_EQ(s[1][1], Vec3(1, 0, -0.1));
 }
 
+// The largest distance between the strands read from `path` and `written`; infinite when the
+// file's strands or vertex counts differ (reported as a failure).
+double readBackError(const std::string& path, const Polylines& written) {
+  const Polylines s = readStrandFile(path);
+  EXPECT_EQ(s.size(), written.size());
+  if (s.size() != written.size()) return INFINITY;
+  double err = 0.0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    EXPECT_EQ(s[k].size(), written[k].size()) << "strand " << k;
+    if (s[k].size() != written[k].size()) return INFINITY;
+    for (std::size_t i = 0; i < s[k].size(); ++i)
+      err = std::max(err, (s[k][i] - written[k][i]).norm());
+  }
+  return err;
+}
+
 TEST(StrandFile, YukselHairReadsBack) {
   GroomSettings g;
   g.strands = 20;
@@ -211,14 +227,7 @@ TEST(StrandFile, YukselHairReadsBack) {
   for (bool segments_array : {true, false}) {
     const std::string path = tempPath(segments_array ? "seg.hair" : "noseg.hair");
     writeBytes(path, hairBytes(groom, segments_array, 7));
-    const Polylines s = readStrandFile(path);
-    ASSERT_EQ(s.size(), groom.size());
-    double err = 0.0;
-    for (std::size_t k = 0; k < s.size(); ++k) {
-      ASSERT_EQ(s[k].size(), groom[k].size());
-      for (std::size_t i = 0; i < s[k].size(); ++i)
-        err = std::max(err, (s[k][i] - groom[k][i]).norm());
-    }
+    const double err = readBackError(path, groom);
     std::printf("[figure] .hair %s segments array: 20 strands, largest error %.2e m (float)\n",
                 segments_array ? "with" : "without", err);
     EXPECT_LT(err, 1e-7);
@@ -234,14 +243,7 @@ TEST(StrandFile, PlyReadsBack) {
   const Polylines groom = groomScalp(g);
   const std::string path = tempPath("strands.ply");
   writeStrandsPly(path, groom);
-  const Polylines s = readStrandFile(path);
-  ASSERT_EQ(s.size(), groom.size());
-  double err = 0.0;
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    ASSERT_EQ(s[k].size(), groom[k].size());
-    for (std::size_t i = 0; i < s[k].size(); ++i)
-      err = std::max(err, (s[k][i] - groom[k][i]).norm());
-  }
+  const double err = readBackError(path, groom);
   std::printf("[figure] ascii PLY strands: 15 strands read back, largest error %.2e m\n", err);
   EXPECT_LT(err, 1e-9);
 

@@ -63,6 +63,12 @@ void readAttachmentMotion(chs::StateReader& in, FrameAttachment& a) {
   a.stale = in.u64("attachment staleness") != 0;
 }
 
+void checkGraspName(chs::StateReader& in, const std::string& name, const std::string& who) {
+  std::string error;
+  if (name.empty() || name.find('/') != std::string::npos || !ros::names::validate(name, error))
+    in.fail(who + "not a valid grasp name");
+}
+
 void writeGarment(chs::StateWriter& out, const Garment& g) {
   out.text(g.name);
   out.u64(static_cast<std::uint64_t>(g.colour));
@@ -137,10 +143,7 @@ Grasp readGrasp(chs::StateReader& in, const std::map<std::string, Garment>& garm
           {},
           0};
   const std::string who = "grasp '" + g.name + "': ";
-  std::string error;
-  if (g.name.empty() || g.name.find('/') != std::string::npos ||
-      !ros::names::validate(g.name, error))
-    in.fail(who + "not a valid grasp name");
+  checkGraspName(in, g.name, who);
   const auto garment = garments.find(g.garment);
   if (garment == garments.end()) in.fail(who + "its garment '" + g.garment + "' is not saved");
   FrameAttachment& a = g.attachment;
@@ -219,10 +222,7 @@ HairGrasp readHairGrasp(chs::StateReader& in, const std::map<std::string, Hair>&
   g.frame_id = in.text("hair grasp frame");
   g.grip = static_cast<int>(in.u64("hair grasp grip"));
   const std::string who = "grasp '" + g.name + "': ";
-  std::string error;
-  if (g.name.empty() || g.name.find('/') != std::string::npos ||
-      !ros::names::validate(g.name, error))
-    in.fail(who + "not a valid grasp name");
+  checkGraspName(in, g.name, who);
   const auto hair = hairs.find(g.hair);
   if (hair == hairs.end()) in.fail(who + "its hair '" + g.hair + "' is not saved");
   try {
