@@ -111,6 +111,8 @@ int HairDynamics::addStrand(const std::vector<Vec3>& rest, const RodMaterial& ma
     particles_.add(rest[i], Vec3::Zero(), m, m / density);
   }
   if (bulk_) bulk_wave_speed_ = std::max(bulk_wave_speed_, bulk_->dilatationalWaveSpeed(density));
+  if (strand_offsets_.empty()) strand_offsets_.push_back(0);
+  strand_offsets_.push_back(particles_.size());
   strands_.push_back(std::move(s));
   return index;
 }
@@ -444,9 +446,6 @@ bool HairDynamics::updateGrid(double dt) {
     last_continuum_.substeps = n;
     // A strand's own vertices are no contact: the stress acts in the share of the grid mass
     // that other strands bring (a strand alone bends and swings as without the continuum).
-    strand_offsets_.clear();
-    for (const Strand& s : strands_) strand_offsets_.push_back(s.offset);
-    strand_offsets_.push_back(particles_.size());
     bulk_share_ = otherStrandsShare(grid_, particles_.x, particles_.mass, strand_offsets_,
                                     settings_.kernel_degree, supports_[0]);
     bulk_scratch_ = particles_;
@@ -553,13 +552,9 @@ void HairDynamics::transferFromGrid(double dt) {
     // gripped vertices immovable; a vertex they change moves again from x^n, put back out of
     // any obstacle.
     inverse_mass_.resize(particles_.size());
-    strand_offsets_.clear();
-    for (const Strand& s : strands_) {
-      strand_offsets_.push_back(s.offset);
+    for (const Strand& s : strands_)
       for (int i = 0; i < s.rod.numVertices(); ++i)
         inverse_mass_[s.offset + i] = held(s, i) ? 0.0 : 1.0 / s.rod.vertexMass(i);
-    }
-    strand_offsets_.push_back(particles_.size());
     v_free_ = particles_.v;
     last_collisions_ = collisions_.apply(x_start_, particles_.v, inverse_mass_, strand_offsets_,
                                          strandThickness(), dt);
@@ -728,6 +723,8 @@ void HairDynamics::readState(StateReader& in) {
     s.pose.matrix() = in.matrix("strand root frame");
     s.grip = in.ints("strand grips");
     if (s.grip.size() != nv) in.fail("strand grips of another vertex count");
+    for (int id : s.grip)
+      if (id < -1) in.fail("strand grip " + std::to_string(id) + " is no grip");
     s.grip_x = in.vectors("strand grip points", nv);
     s.hold_force = in.vectors("strand hold forces", nv);
     const std::vector<Vec3> clamp = in.vectors("strand clamp wrench", 2);
@@ -739,6 +736,7 @@ void HairDynamics::readState(StateReader& in) {
   for (std::uint64_t k = 0; k < n_grips; ++k) {
     const int id = static_cast<int>(in.u64("grip id"));
     const std::vector<int> v = in.ints("grip vertices");
+    if (v.size() % 2 != 0) in.fail("grip " + std::to_string(id) + ": an odd vertex list");
     Grip g;
     for (std::size_t i = 0; i + 1 < v.size(); i += 2) {
       if (v[i] < 0 || v[i] >= numStrands() || v[i + 1] < 0 ||
@@ -750,6 +748,10 @@ void HairDynamics::readState(StateReader& in) {
     grips[id] = g;
   }
   const int next_grip = static_cast<int>(in.u64("next grip id"));
+  for (const Strand& s : strands)  // every held vertex's grip is in the record
+    for (int id : s.grip)
+      if (id >= 0 && !grips.count(id))
+        in.fail("a vertex is held by grip " + std::to_string(id) + ", which is not saved");
   const std::size_t np = particles_.size();
   std::vector<double> mass = in.reals("vertex masses on the grid", np);
   std::vector<Eigen::Matrix3d> C = in.matrices("affine velocities", np);

@@ -277,7 +277,7 @@ class HairDynamics : public Body {
   StrandContinuumStats last_continuum_;
   std::vector<Eigen::Vector3d> x_start_, v_free_;
   std::vector<double> inverse_mass_;
-  std::vector<int> strand_offsets_;
+  std::vector<int> strand_offsets_;  // each strand's first particle, then the count
   bool converged_ = true;
   int last_iterations_ = 0;
   double time_ = 0.0;
