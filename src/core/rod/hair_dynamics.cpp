@@ -61,6 +61,9 @@ HairDynamics::HairDynamics(const HairSettings& settings)
   if (!(oc.recovery_speed > 0.0) || !std::isfinite(oc.recovery_speed))
     throw InputError("hair: obstacle recovery_speed must be positive and finite");
   if (oc.lag_passes < 1) throw InputError("hair: obstacle lag_passes must be at least 1");
+  if (!(oc.lag_tolerance >= 0.0))
+    throw InputError("hair: obstacle lag_tolerance must be >= 0, got " +
+                     std::to_string(oc.lag_tolerance));
   if (!(settings.continuum.contact_blend >= 0.0 && settings.continuum.contact_blend <= 1.0))
     throw InputError("hair: strand continuum: contact_blend (xi in contact) must lie in [0, 1]");
   try {  // checked even when disabled: a typo is reported before someone enables it
@@ -350,7 +353,9 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
   if (!contact.empty()) loads.obstacles = &contact;
   result = solveStrand(rod, loads, settings_.newton);
   for (int pass = 1; pass < settings_.obstacle_contact.lag_passes && loads.obstacles; ++pass) {
-    contact.updateLag(rod.configuration(), reach, skip);
+    if (contact.updateLag(rod.configuration(), reach, skip) <=
+        settings_.obstacle_contact.lag_tolerance)
+      break;
     const int before = result.iterations;
     result = solveStrand(rod, loads, settings_.newton);
     result.iterations += before;

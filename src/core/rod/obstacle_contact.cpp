@@ -25,9 +25,10 @@ ObstacleContact::ObstacleContact(const std::vector<StrandObstacle>& obstacles,
       dt_(dt),
       x_start_(x_start) {}
 
-void ObstacleContact::updateLag(const Eigen::VectorXd& q, double reach,
-                                const std::vector<char>& skip) {
-  contacts_.clear();
+double ObstacleContact::updateLag(const Eigen::VectorXd& q, double reach,
+                                  const std::vector<char>& skip) {
+  std::vector<LaggedContact> previous;
+  previous.swap(contacts_);
   for (int i = 0; i < static_cast<int>(x_start_.size()); ++i) {
     if (!skip.empty() && skip[i]) continue;
     const Vec3 x = vertex(q, i);
@@ -45,6 +46,43 @@ void ObstacleContact::updateLag(const Eigen::VectorXd& q, double reach,
       contacts_.push_back(c);
     }
   }
+  // Only friction reads the lagged forces (the normal penalty acts at the iterate).
+  const auto rubs = [&](const LaggedContact& c) { return obstacles_[c.obstacle].friction > 0.0; };
+  double largest = 0.0, change = 0.0;
+  for (const LaggedContact& c : contacts_)
+    if (rubs(c)) largest = std::max(largest, c.normal_force);
+  if (previous.empty()) return 0.0;
+  const double omega = 1.0 / (1.0 + 2.0 * frictionGain(q));
+  // Both lists are ordered by (vertex, obstacle).
+  auto p = previous.begin();
+  for (LaggedContact& c : contacts_) {
+    while (p != previous.end() &&
+           (p->vertex < c.vertex || (p->vertex == c.vertex && p->obstacle < c.obstacle)))
+      ++p;
+    const double before = p != previous.end() && p->vertex == c.vertex && p->obstacle == c.obstacle
+                              ? p->normal_force
+                              : 0.0;
+    if (rubs(c)) change = std::max(change, std::abs(c.normal_force - before));
+    c.normal_force = before + omega * (c.normal_force - before);
+  }
+  for (; p != previous.end(); ++p)  // let go
+    if (rubs(*p)) change = std::max(change, p->normal_force);
+  return largest > 0.0 ? change / largest : 0.0;
+}
+
+// mu theta over the contacts with friction: each contact vertex's turning angle between its two
+// edges (the strand's vertices are consecutive unknowns) times its obstacle's mu.
+double ObstacleContact::frictionGain(const Eigen::VectorXd& q) const {
+  const int nv = static_cast<int>(x_start_.size());
+  double gain = 0.0;
+  for (const LaggedContact& c : contacts_) {
+    const double mu = obstacles_[c.obstacle].friction;
+    if (mu <= 0.0 || c.normal_force <= 0.0 || c.vertex == 0 || c.vertex == nv - 1) continue;
+    const Vec3 a = vertex(q, c.vertex) - vertex(q, c.vertex - 1),
+               b = vertex(q, c.vertex + 1) - vertex(q, c.vertex);
+    gain += mu * std::atan2(a.cross(b).norm(), a.dot(b));
+  }
+  return gain;
 }
 
 // The signed distance from the obstacle where the step leaves it (moved by its motion at the
