@@ -158,7 +158,9 @@ BENCHMARK(twoSheets)
 // iteration is one step, from `warm_steps` steps into the run; counters are per step: stage and
 // solver times [ms], Newton iterations and factorisations of the elastic solve, force evaluations
 // of the grid's contact solve, and the real-time factor dt / wall. history: the elastic solve's
-// L-BFGS pairs (0: chord iterations on the kept factor).
+// L-BFGS pairs (0: chord iterations on the kept factor). settings: 0, those of 2026-12-02 for
+// side-by-side runs (the elastic and contact solves to 1e-5 m/s); 1, the defaults; 2, the
+// defaults with the fibres' contact between layers only.
 void lagrangianStep(benchmark::State& state) {
   const bool towel = state.range(0) == 0;
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
@@ -178,6 +180,8 @@ void lagrangianStep(benchmark::State& state) {
   settings.max_time_step = 1.0 / 60.0;
   settings.friction = 0.3;
   settings.elastic_history = static_cast<int>(state.range(2));
+  if (state.range(3) == 0) settings.lagrangian_tolerance = 1e-5;
+  settings.contact_between_layers_only = state.range(3) == 2;
   chs::HybridShellDynamics d(p, settings);
   double t = 0.0;
   for (int i = 0; i < state.range(1); ++i) {
@@ -220,8 +224,8 @@ void lagrangianStep(benchmark::State& state) {
   state.counters["real_time_factor"] = sim / wall;
 }
 BENCHMARK(lagrangianStep)
-    ->ArgsProduct({{0, 1}, {30, 400}, {0, 8}})
-    ->ArgNames({"scene", "warm_steps", "history"})
+    ->ArgsProduct({{0, 1}, {30, 400}, {0, 8}, {0, 1, 2}})
+    ->ArgNames({"scene", "warm_steps", "history", "settings"})
     ->Iterations(20)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

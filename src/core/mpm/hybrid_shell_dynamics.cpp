@@ -76,6 +76,7 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
     throw InputError("hybrid shell: display segments per face edge must lie in 1..16");
   positive(s.max_time_step, "maximum time step");
   positive(s.implicit_tolerance, "implicit solve tolerance");
+  positive(s.lagrangian_tolerance, "Lagrangian solve tolerance");
   if (s.elastic_history < 0 || s.elastic_history > 64)
     throw InputError("hybrid shell: L-BFGS history of the elastic solve must lie in 0..64");
   if (s.max_newton_iterations < 1 || s.max_krylov_iterations < 1)
@@ -202,6 +203,15 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
       }
   }
   contact_.stencil = FirstOrderStencils(contact_stencils);
+  if (lagrangian() && settings.contact_between_layers_only) {
+    std::vector<int> face(contact_.size());
+    for (int p = 0; p < contact_.size(); ++p) face[p] = p / (n * n);
+    // Two particles share a node when they lie within (degree + 1) cells of each other along
+    // each axis.
+    layers_ =
+        std::make_unique<mpm::LayerProximity>(clamps_.extendedMesh(), std::move(face),
+                                              std::sqrt(3.0) * (settings.kernel_degree + 1) * dx_);
+  }
   contact_.fibre_force.assign(contact_.size(), Vec3::Zero());
   for (int p = 0; p < nc; ++p) control_.add(x0[p], Vec3::Zero(), lumped[p], 0.0);
   for (int p = 0; p < nc; ++p)
@@ -347,7 +357,7 @@ void HybridShellDynamics::solveElasticity(double dt) {
   });
   clamps_.placePositions(x);
   ImplicitElasticitySettings es;
-  es.tolerance = settings_.implicit_tolerance;
+  es.tolerance = settings_.lagrangian_tolerance;
   es.max_iterations = settings_.max_newton_iterations;
   es.reuse_factorization = settings_.reuse_factorization;
   es.history = settings_.elastic_history;
@@ -459,6 +469,7 @@ void HybridShellDynamics::transferToGrid() {
   mpm::particleToGrid({&control_, &contact_.p, &solid_}, grid_, settings_.kernel_degree,
                       &supports_);
   std::swap(control_.mass, transfer_mass_);
+  if (layers_) layers_->find(grid_, supports_[1], contact_.p.x, near_layer_);
   if (lagrangian() && settings_.flip_blend > 0.0) transferred_velocity_ = grid_.velocity;
 }
 
@@ -582,7 +593,9 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
     Vec3 a1, a2;
     contact_.stencil.tangents(p, trial_control_, a1, a2);
     trial_fibre_[p] =
-        projectContactFibre(a1, a2, a + dt * fibre_gradient_[p] * a, contact_material_);
+        fibreInContact(p)
+            ? projectContactFibre(a1, a2, a + dt * fibre_gradient_[p] * a, contact_material_)
+            : Vec3(a1.cross(a2).normalized());
   });
   scatterShellForces(trial_control_, trial_fibre_, with_elasticity);
   scatterTrialSolidStress(node_velocity, dt);
@@ -652,7 +665,9 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
   }
   v = v_free;
   std::vector<Vec3> node_velocity(grid_.size(), Vec3::Zero());
+  Eigen::VectorXd evaluated;  // where the trial state was last evaluated
   auto residual = [&](const Eigen::VectorXd& u, Eigen::VectorXd& r) {
+    evaluated = u;
     for (int k = 0; k < n; ++k) node_velocity[node[k]] = u.segment<3>(3 * k);
     computeTrialGridForces(node_velocity, dt, !contact_only);
     r.resize(3 * n);
@@ -662,16 +677,21 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
           dt * grid_.force[node[k]];
   };
   NewtonKrylovSettings ns;
-  ns.tolerance = settings_.implicit_tolerance * std::sqrt(total_mass);
+  ns.tolerance = (contact_only ? settings_.lagrangian_tolerance : settings_.implicit_tolerance) *
+                 std::sqrt(total_mass);
   ns.max_newton_iterations = settings_.max_newton_iterations;
   ns.max_krylov_iterations = settings_.max_krylov_iterations;
   ns.krylov_restart = settings_.max_krylov_iterations;
   ns.krylov_tolerance = settings_.krylov_tolerance;
   last_solve_ = solveNewtonKrylov(residual, mass, v, ns);
-  // Once more at the accepted velocities: the control forces of the end state are what the pins'
-  // support forces balance (a failed line search left those of a rejected trial).
-  Eigen::VectorXd r;
-  residual(v, r);
+  // The trial state (control forces, fibres, their carried velocity and its gradient) must be
+  // that of the accepted velocities: the pins' support forces balance those forces, and G2P
+  // reuses the fibres' gradient. A solve's last evaluation is usually there already (its line
+  // search accepted it); after a rejected trial it is evaluated once more.
+  if (evaluated != v) {
+    Eigen::VectorXd r;
+    residual(v, r);
+  }
   for (int i = 0; i < grid_.size(); ++i) {
     grid_.velocity[i] = node_velocity[i];
     grid_.momentum[i] = grid_.mass[i] * node_velocity[i];
@@ -685,10 +705,13 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
 // the solid's F accumulates, F <- (I + dt grad v) F (3.17).
 void HybridShellDynamics::transferToParticles(double dt) {
   // The fibres' map I + dt grad(S v) (carriedVelocity), taken before the transfers move the
-  // particles off the positions their supports were recorded at.
-  carriedVelocity(lagrangian() ? fibre_field_velocity_ : grid_.velocity, fibre_velocity_);
-  mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x,
-                                        settings_.kernel_degree, supports_[1], fibre_gradient_);
+  // particles off the positions their supports were recorded at. The Lagrangian step's contact
+  // solve left it at its solution, fibre_field_velocity_ (solveGridMomentum).
+  if (!lagrangian()) {
+    carriedVelocity(grid_.velocity, fibre_velocity_);
+    mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x,
+                                          settings_.kernel_degree, supports_[1], fibre_gradient_);
+  }
   std::fill(control_.F.begin(), control_.F.end(), Eigen::Matrix3d::Identity());
   if (lagrangian() && settings_.flip_blend > 0.0)
     mpm::interpolateNodeField(grid_, transferred_velocity_, control_.x, settings_.kernel_degree,
@@ -800,7 +823,9 @@ void HybridShellDynamics::updatePlasticity() {
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     Vec3 a1, a2;
     contact_.stencil.tangents(p, control_.x, a1, a2);
-    contact_.fibre[p] = projectContactFibre(a1, a2, contact_.fibre[p], contact_material_);
+    contact_.fibre[p] = fibreInContact(p)
+                            ? projectContactFibre(a1, a2, contact_.fibre[p], contact_material_)
+                            : Vec3(a1.cross(a2).normalized());
   });
 }
 
