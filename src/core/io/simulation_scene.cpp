@@ -375,6 +375,9 @@ void parseWorld(const YAML::Node& node, SimulationScene& scene) {
   sh.max_time_step = w.positive("max_time_step", sh.max_time_step);
   sh.safety = w.positive("safety", sh.safety);
   sh.cfl = w.positive("cfl", sh.cfl);
+  sh.lagrangian_tolerance = w.positive("lagrangian_tolerance", sh.lagrangian_tolerance);
+  sh.contact_between_layers_only =
+      w.boolean("contact_between_layers_only", sh.contact_between_layers_only);
   sh.display_segments = w.integer("display_segments", sh.display_segments, 1);
   w.done();
   sh.grid_spacing = ws.grid_spacing;
