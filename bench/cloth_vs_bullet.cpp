@@ -225,14 +225,15 @@ std::vector<chs::SurfaceStencil> cornerStencils(const chs::QuadMesh& mesh,
   return s;
 }
 
-Run runHybrid(const DropScene& scene, chs::TimeIntegration integration, int threads, int every) {
+Run runHybrid(const DropScene& scene, chs::TimeIntegration integration, int threads, int every,
+              const chs::HybridShellSettings& base) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   chs::DrapeProblem p;
   p.mesh = chs::makeRectangleMesh(scene.size, scene.size, scene.cells, scene.cells,
                                   Vec3(0, 0, scene.height()));
   p.material = scene.material;
   p.colliders = {std::make_shared<chs::SphereSurface>(Vec3::Zero(), scene.radius)};
-  chs::HybridShellSettings s;
+  chs::HybridShellSettings s = base;
   s.friction = scene.friction;
   s.integration = integration;
   // One step per frame where the motion allows (CFL still shortens it).
@@ -340,6 +341,12 @@ int main(int argc, char** argv) {
   app.add_option("--integration", integrations,
                  "hybrid shell integrations to run: symplectic_euler, backward_euler, "
                  "lagrangian_implicit");
+  chs::HybridShellSettings base;
+  app.add_option("--lagrangian-tolerance", base.lagrangian_tolerance,
+                 "the lagrangian_* steps' solve tolerance [m/s]")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--contact-between-layers-only", base.contact_between_layers_only,
+               "lagrangian_*: the fibres' contact only where two layers meet");
   CLI11_PARSE(app, argc, argv);
   std::vector<chs::TimeIntegration> hybrid;
   try {
@@ -369,8 +376,8 @@ int main(int argc, char** argv) {
   };
   for (const BulletSettings& b : bullet) runs.push_back(runBullet(scene, b, every));
   for (chs::TimeIntegration i : hybrid) {
-    runs.push_back(runHybrid(scene, i, threads, every));
-    if (single_thread_too && threads > 1) runs.push_back(runHybrid(scene, i, 1, every));
+    runs.push_back(runHybrid(scene, i, threads, every, base));
+    if (single_thread_too && threads > 1) runs.push_back(runHybrid(scene, i, 1, every, base));
   }
   printSummary(runs, scene);
   return 0;
