@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 
+#include "cloth_hair_sim/core/mesh/triangle_mesh.h"
+
 namespace chs::rod {
 
 // A groom: the strands' polylines from root to tip, as a scalp builder or a strand file
@@ -42,6 +44,14 @@ struct GroomSettings {
 // the normal: its first segment leaves at the helix angle to it). Throws InputError for a bad
 // setting (non-positive sizes, a cone angle outside (0, pi], a count beyond the limits).
 Polylines groomScalp(const GroomSettings& settings);
+
+// Strands rooted on a scalp region of a triangle mesh (a head model): the triangles whose
+// centroids lie within the patch's cone_angle of its direction seen from its centre (its radii
+// are not used), roots uniform in area over them, each strand leaving along the mesh's normal
+// there (area-weighted vertex normals, interpolated), turned to point away from the centre so
+// that the winding of the file does not matter. Throws InputError for a bad setting (as
+// groomScalp), an empty or non-finite mesh, or a cone that holds no triangle of positive area.
+Polylines groomMesh(const TriangleMesh& mesh, const GroomSettings& settings);
 
 // The polyline resampled to `segments` segments of equal arc length (root and tip kept). Throws
 // InputError for fewer than one segment or a strand checkStrands refuses.
