@@ -5,6 +5,7 @@
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/io/strand_file.h"
+#include "cloth_hair_sim/core/io/triangle_mesh_reader.h"
 #include "cloth_hair_sim/node/garment.h"
 #include "cloth_hair_sim/node/grasp.h"
 
@@ -45,11 +46,11 @@ chs::rod::RodMaterial hairMaterial(const cloth_hair_sim::LoadHair::Request& req,
 chs::rod::Polylines hairStrands(const cloth_hair_sim::LoadHair::Request& req) {
   const Eigen::Isometry3d frame_from_groom = poseFromMsg(req.pose);
   if (req.segments < 0) throw InputError("segments must be >= 0");
+  const double scale = req.scale == 0.0 ? 1.0 : req.scale;
+  if (!(scale > 0.0) || !std::isfinite(scale))
+    throw InputError("scale must be positive and finite");
   chs::rod::Polylines strands;
   if (!req.file.empty()) {
-    const double scale = req.scale == 0.0 ? 1.0 : req.scale;
-    if (!(scale > 0.0) || !std::isfinite(scale))
-      throw InputError("scale must be positive and finite");
     strands = chs::readStrandFile(req.file);
     for (auto& s : strands) {
       if (req.segments > 0) s = chs::rod::resampleStrand(s, req.segments);
@@ -57,12 +58,18 @@ chs::rod::Polylines hairStrands(const cloth_hair_sim::LoadHair::Request& req) {
     }
   } else {
     chs::rod::GroomSettings g;
-    if (req.scalp_radii.size() == 1)
+    if (!req.scalp_mesh.empty()) {
+      if (!req.scalp_radii.empty())
+        throw InputError("scalp_radii go with an ellipsoid, not with scalp_mesh");
+    } else if (req.scalp_radii.size() == 1) {
       g.scalp.radii = Vec3::Constant(req.scalp_radii[0]);
-    else if (req.scalp_radii.size() == 3)
+    } else if (req.scalp_radii.size() == 3) {
       g.scalp.radii = Vec3(req.scalp_radii[0], req.scalp_radii[1], req.scalp_radii[2]);
-    else
-      throw InputError("no file: scalp_radii must be [r] (a sphere) or [a, b, c] (an ellipsoid)");
+    } else {
+      throw InputError(
+          "no file: scalp_radii must be [r] (a sphere) or [a, b, c] (an ellipsoid), or "
+          "scalp_mesh a head model");
+    }
     const Vec3 d(req.patch_direction.x, req.patch_direction.y, req.patch_direction.z);
     if (d != Vec3::Zero()) g.scalp.direction = d;
     if (req.patch_angle != 0.0) g.scalp.cone_angle = req.patch_angle;
@@ -72,7 +79,13 @@ chs::rod::Polylines hairStrands(const cloth_hair_sim::LoadHair::Request& req) {
     g.curl_radius = req.curl_radius;
     g.curl_pitch = req.curl_pitch;
     if (req.seed != 0) g.seed = req.seed;
-    strands = chs::rod::groomScalp(g);
+    if (req.scalp_mesh.empty()) {
+      strands = chs::rod::groomScalp(g);
+    } else {
+      g.scalp.centre = Vec3(req.patch_centre.x, req.patch_centre.y, req.patch_centre.z);
+      strands =
+          chs::rod::groomMesh(chs::readTriangleMesh(req.scalp_mesh, Vec3::Constant(scale)), g);
+    }
     for (auto& s : strands)
       for (auto& x : s) x = frame_from_groom * x;
   }

@@ -3,6 +3,7 @@
 listed, drawn as one LINE_LIST in namespace "hair" (guides and display strands), hangs under
 gravity, survives ~reset, a bad strand file is refused while the node runs on, and ~remove_hair
 takes it away; roots on a moving tf frame ride on it."""
+import math
 import os
 import struct
 import tempfile
@@ -207,6 +208,73 @@ class HairNode(unittest.TestCase):
                 break
             time.sleep(0.05)
         self.assertFalse(drawn)
+
+    def test_hair_on_a_mesh_scalp(self):
+        # A head model: an OBJ sphere of radius 0.1 m about (0, 0, 0.05) in the file, written in
+        # cm (scale 0.01), posed 5 cm down in the head frame. Its region within 0.3 rad of +x
+        # seen from its centre is the scalp.
+        rings, sectors = 24, 48
+        lines = ['v 0 0 15', 'v 0 0 -5']
+        for i in range(1, rings):
+            for j in range(sectors):
+                t, p = math.pi * i / rings, 2 * math.pi * j / sectors
+                lines.append('v %.9f %.9f %.9f' % (10 * math.sin(t) * math.cos(p),
+                                                    10 * math.sin(t) * math.sin(p),
+                                                    5 + 10 * math.cos(t)))
+        at = lambda i, j: 1 if i == 0 else 2 if i == rings else 3 + (i - 1) * sectors + j % sectors
+        for i in range(rings):
+            for j in range(sectors):
+                for tri in ((at(i, j), at(i + 1, j), at(i + 1, j + 1)),
+                            (at(i, j), at(i + 1, j + 1), at(i, j + 1))):
+                    if len(set(tri)) == 3:
+                        lines.append('f %d %d %d' % tri)
+        handle, path = tempfile.mkstemp(suffix='.obj')
+        with os.fdopen(handle, 'w') as f:
+            f.write('\n'.join(lines) + '\n')
+        self.assertTrue(self.pause(True).success)
+        req = groom('mesh_scalp')
+        req.scalp_radii = []
+        req.scalp_mesh = path
+        req.scale = 0.01
+        req.patch_centre.z = 0.05
+        req.pose.position.z = -0.05
+        req.pose.orientation.w = 1.0
+        res = self.load(req)
+        self.assertTrue(res.success, res.message)
+        self.assertEqual(res.strands, GUIDES)
+        m = self.hair_marker(rospy.Time.now())
+        self.assertIsNotNone(m, 'no marker in namespace hair')
+        # Roots on the sphere (radius 0.1 about the head frame at z = 1) within the facets' sag
+        # (R (1 - cos(5.3 deg)) = 0.43 mm), on its +x side, strands leaving outwards.
+        roots = [m.points[g * 2 * SEGMENTS] for g in range(GUIDES)]
+        seconds = [m.points[g * 2 * SEGMENTS + 1] for g in range(GUIDES)]
+        worst = max(abs((p.x ** 2 + p.y ** 2 + (p.z - 1.0) ** 2) ** 0.5 - 0.1) for p in roots)
+        widest = max(math.acos(min(1.0, p.x / (p.x ** 2 + p.y ** 2 + (p.z - 1.0) ** 2) ** 0.5))
+                     for p in roots)
+        outward = min((s.x - p.x) * p.x + (s.y - p.y) * p.y + (s.z - p.z) * (p.z - 1.0)
+                      for p, s in zip(roots, seconds))
+        print('[figure] node: 20 guides on a mesh scalp: roots within %.2e m of the sphere, '
+              'within %.3f rad of +x, first segments outward (smallest radial step %.2e m^2)'
+              % (worst, widest, outward))
+        self.assertLess(worst, 5e-4)
+        self.assertLess(widest, 0.3 + 0.15)
+        self.assertGreater(outward, 0.0)
+        self.assertTrue(self.remove(name='mesh_scalp').success)
+        # A missing mesh, and radii beside a mesh, are refused by name; nothing is loaded.
+        req.scalp_mesh = '/nonexistent/head.obj'
+        res = self.load(req)
+        self.assertFalse(res.success)
+        print('refused: %s' % res.message)
+        self.assertIn('head.obj', res.message)
+        req.scalp_mesh = path
+        req.scalp_radii = [0.1]
+        res = self.load(req)
+        self.assertFalse(res.success)
+        print('refused: %s' % res.message)
+        self.assertIn('scalp_mesh', res.message)
+        os.remove(path)
+        self.assertNotIn('mesh_scalp', self.list().names)
+        self.assertTrue(self.pause(False).success)
 
     def test_roots_follow_a_moving_frame(self):
         # A frame 'hand' rising at 5 cm/s, published by this test; the hair's roots ride on it.

@@ -8,6 +8,7 @@
 #include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/io/mesh_reader.h"
 #include "cloth_hair_sim/core/io/strand_file.h"
+#include "cloth_hair_sim/core/io/triangle_mesh_reader.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "scene_yaml.h"
 
@@ -236,8 +237,35 @@ rod::Polylines parseStrands(YamlSection& h, const std::string& base_dir) {
       gs.curl_radius = g.number("curl_radius", gs.curl_radius);
       gs.curl_pitch = g.number("curl_pitch", gs.curl_pitch);
       gs.seed = static_cast<std::uint32_t>(g.integer("seed", 1, 0));
-      g.done();
-      strands = rod::groomScalp(gs);
+      if (g.has("mesh")) {
+        // The scalp region of a triangle mesh (a head model) instead of an ellipsoid's patch.
+        if (g.has("radii")) failKey(g.key("radii"), "goes with an ellipsoid, not with mesh");
+        YamlSection m(g.get("mesh"), g.key("mesh"));
+        const std::string file = m.text("file", "");
+        if (file.empty()) failKey(m.key("file"), "missing (a triangle mesh, e.g. .obj, .dae)");
+        const double scale = m.positive("scale", 1.0);
+        std::vector<std::string> parts;
+        if (m.has("parts")) {
+          const YAML::Node n = m.get("parts");
+          if (!n.IsSequence() || n.size() == 0) failKey(m.key("parts"), "must be a list of names");
+          for (const auto& name : n) parts.push_back(YamlSection::scalarText(name));
+        }
+        m.done();
+        g.done();
+        const std::filesystem::path path = std::filesystem::path(file).is_absolute()
+                                               ? std::filesystem::path(file)
+                                               : std::filesystem::path(base_dir) / file;
+        TriangleMesh mesh;
+        try {
+          mesh = readTriangleMesh(path.string(), Eigen::Vector3d::Constant(scale), parts);
+        } catch (const InputError& e) {
+          failKey(m.key("file"), e.what());
+        }
+        strands = rod::groomMesh(mesh, gs);
+      } else {
+        g.done();
+        strands = rod::groomScalp(gs);
+      }
     } else {
       const YAML::Node f = h.get("file");
       std::string file;
