@@ -16,6 +16,7 @@ struct MeshFieldCache {
   std::mutex mutex;
   std::string file;
   Eigen::Vector3d scale = Eigen::Vector3d::Zero();
+  std::vector<std::string> parts;
   MeshSdfResolution resolution;
   std::shared_ptr<const MeshSdfSurface> field;
 };
@@ -104,12 +105,13 @@ std::shared_ptr<const MeshSdfSurface> ColliderShape::meshField() const {
   const std::lock_guard<std::mutex> lock(mesh_cache_->mutex);
   MeshFieldCache& c = *mesh_cache_;
   const MeshSdfResolution& r = mesh_resolution;
-  if (!c.field || c.file != mesh_file || c.scale != mesh_scale ||
+  if (!c.field || c.file != mesh_file || c.scale != mesh_scale || c.parts != mesh_parts ||
       c.resolution.voxel_size != r.voxel_size || c.resolution.exterior_band != r.exterior_band ||
       c.resolution.interior_band != r.interior_band) {
-    c.field = MeshSdfSurface::fromFile(mesh_file, mesh_scale, r);
+    c.field = MeshSdfSurface::fromFile(mesh_file, mesh_scale, r, mesh_parts);
     c.file = mesh_file;
     c.scale = mesh_scale;
+    c.parts = mesh_parts;
     c.resolution = r;
   }
   return c.field;

@@ -66,8 +66,9 @@ MeshSdfSurface::MeshSdfSurface(const TriangleMesh& mesh, const MeshSdfResolution
 MeshSdfSurface::~MeshSdfSurface() = default;
 
 std::shared_ptr<const MeshSdfSurface> MeshSdfSurface::fromFile(
-    const std::string& path, const Eigen::Vector3d& scale, const MeshSdfResolution& resolution) {
-  const TriangleMesh mesh = readTriangleMesh(path, scale);
+    const std::string& path, const Eigen::Vector3d& scale, const MeshSdfResolution& resolution,
+    const std::vector<std::string>& parts) {
+  const TriangleMesh mesh = readTriangleMesh(path, scale, parts);
   try {
     return std::make_shared<const MeshSdfSurface>(mesh, resolution);
   } catch (const InputError& e) {

@@ -31,6 +31,16 @@ std::string resolve(const std::string& path, const std::string& base_dir, const 
 
 // The one key of `kinds` that s has (its other keys are checked by done(): a misspelt kind is
 // then an unknown key, wherever it stands).
+// A mesh file's `parts`: the nodes or meshes to keep (readTriangleMesh); none: all of it.
+std::vector<std::string> partNames(YamlSection& s) {
+  std::vector<std::string> parts;
+  if (!s.has("parts")) return parts;
+  const YAML::Node n = s.get("parts");
+  if (!n.IsSequence() || n.size() == 0) failKey(s.key("parts"), "must be a list of names");
+  for (const auto& name : n) parts.push_back(YamlSection::scalarText(name));
+  return parts;
+}
+
 std::string presentKind(const YamlSection& s, const std::vector<std::string>& kinds,
                         const std::string& what) {
   std::string found, list;
@@ -167,6 +177,7 @@ ColliderShape parseShape(YamlSection& c, const std::string& kind, const std::str
     shape.type = ColliderShape::Type::kMesh;
     shape.mesh_file = resolve(s.text("file", ""), base_dir, s.key("file"));
     shape.mesh_scale = Eigen::Vector3d::Constant(s.positive("scale", 1.0));
+    shape.mesh_parts = partNames(s);
     shape.mesh_resolution.voxel_size = s.number("voxel_size", 0.0);
     if (shape.mesh_resolution.voxel_size < 0.0)
       failKey(s.key("voxel_size"), "must not be negative (0: default)");
@@ -244,12 +255,7 @@ rod::Polylines parseStrands(YamlSection& h, const std::string& base_dir) {
         const std::string file = m.text("file", "");
         if (file.empty()) failKey(m.key("file"), "missing (a triangle mesh, e.g. .obj, .dae)");
         const double scale = m.positive("scale", 1.0);
-        std::vector<std::string> parts;
-        if (m.has("parts")) {
-          const YAML::Node n = m.get("parts");
-          if (!n.IsSequence() || n.size() == 0) failKey(m.key("parts"), "must be a list of names");
-          for (const auto& name : n) parts.push_back(YamlSection::scalarText(name));
-        }
+        const std::vector<std::string> parts = partNames(m);
         m.done();
         g.done();
         const std::filesystem::path path = std::filesystem::path(file).is_absolute()

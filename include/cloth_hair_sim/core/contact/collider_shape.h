@@ -34,6 +34,8 @@ struct ColliderShape {
   double edge_radius = -1.0;
   std::string mesh_file;  // a file path (URLs are resolved by the caller)
   Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();
+  // The file's nodes or meshes to keep (readTriangleMesh); empty: all of it.
+  std::vector<std::string> mesh_parts;
   MeshSdfResolution mesh_resolution;
 
   // Throws InputError naming the dimension or pose that makes no sense.

@@ -45,10 +45,10 @@ class MeshSdfSurface : public RigidSurface {
   // Throws InputError for a mesh that does not bound a solid (checkClosedSurface) or a
   // non-finite or negative resolution.
   explicit MeshSdfSurface(const TriangleMesh& mesh, const MeshSdfResolution& resolution = {});
-  // readTriangleMesh(path, scale) then the constructor; errors name the file.
+  // readTriangleMesh(path, scale, parts) then the constructor; errors name the file.
   static std::shared_ptr<const MeshSdfSurface> fromFile(
       const std::string& path, const Eigen::Vector3d& scale = Eigen::Vector3d::Ones(),
-      const MeshSdfResolution& resolution = {});
+      const MeshSdfResolution& resolution = {}, const std::vector<std::string>& parts = {});
   ~MeshSdfSurface() override;
 
   SurfaceProjection project(const Eigen::Vector3d& x) const override;
