@@ -197,6 +197,24 @@ TEST(SimulationScene, ParsesHair) {
   ASSERT_EQ(f.hair[0].strands[0].size(), 5u);
   EXPECT_NEAR(f.hair[0].strands[0].back().z(), -0.2, 1e-12);
   EXPECT_FALSE(f.hair[0].continuum.enabled);
+  // A groom on a head model's scalp: an octahedron of radius 5 (cm) scaled to 5 cm; the patch
+  // about +z takes its four upper faces, the roots lie on them, posed 1 m up.
+  const std::string head = (std::filesystem::temp_directory_path() / "chs_scene_head.obj").string();
+  std::ofstream(head) << "v 5 0 0\nv -5 0 0\nv 0 5 0\nv 0 -5 0\nv 0 0 5\nv 0 0 -5\n"
+                         "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\n"
+                         "f 1 4 6\n";
+  const SimulationScene m = parseSimulationScene(
+      "hair:\n  - groom: {mesh: {file: " + head +
+          ", scale: 0.01}, strands: 30, length: 0.05, segments: 5, cone_angle: 1.0}\n"
+          "    position: [0, 0, 1]\n",
+      "", "z");
+  ASSERT_EQ(m.hair.size(), 1u);
+  ASSERT_EQ(m.hair[0].strands.size(), 30u);
+  for (const auto& strand : m.hair[0].strands) {  // on the upper faces: |x| + |y| + z = 0.05
+    const Eigen::Vector3d r = strand.front() - Eigen::Vector3d(0, 0, 1);
+    EXPECT_NEAR(std::abs(r.x()) + std::abs(r.y()) + r.z(), 0.05, 1e-12);
+    EXPECT_GE(r.z(), 0.0);
+  }
 }
 
 TEST(SimulationScene, RefusesBadHair) {
@@ -218,6 +236,10 @@ TEST(SimulationScene, RefusesBadHair) {
        "hair[0].file"},
       {hairEdited("name: scalp", "name: head"), ""},  // a hair and a collider may share a name
       {hairEdited("name: scalp", "name: scalp\n    comb: true"), "hair[0].comb: unknown key"},
+      {hairEdited("radii: 0.05", "radii: 0.05, mesh: {file: head.obj}"),
+       "hair[0].groom.radii: goes with an ellipsoid, not with mesh"},
+      {hairEdited("radii: 0.05", "mesh: {file: no/such/head.obj}"), "no/such/head.obj"},
+      {hairEdited("radii: 0.05", "mesh: {scale: 2}"), "hair[0].groom.mesh.file: missing"},
   };
   for (const Case& c : cases) {
     const std::string message = refusal(c.text);
