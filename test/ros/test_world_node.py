@@ -37,6 +37,14 @@ class WorldNode(unittest.TestCase):
         cls.markers = LatestMessage('/sim/markers', MarkerArray)
         cls.wrenches = []
         rospy.Subscriber('/sim/collider_wrench/table', WrenchStamped, cls.wrenches.append)
+        # The table's static transform may come up after the node on a loaded machine: a sheet
+        # loaded before the table is placed falls past it (a make test run read 0 N).
+        deadline = time.time() + 30.0
+        while time.time() < deadline:
+            s = cls.status.get()
+            if s is not None and s.colliders == 1 and not s.stale_colliders:
+                break
+            time.sleep(0.05)
 
     def run_for(self, sim_seconds):
         start = None

@@ -688,7 +688,7 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
   // that of the accepted velocities: the pins' support forces balance those forces, and G2P
   // reuses the fibres' gradient. A solve's last evaluation is usually there already (its line
   // search accepted it); after a rejected trial it is evaluated once more.
-  if (evaluated != v) {
+  if (evaluated.size() != v.size() || evaluated != v) {
     Eigen::VectorXd r;
     residual(v, r);
   }
