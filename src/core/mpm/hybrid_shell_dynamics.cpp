@@ -207,7 +207,7 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
     std::vector<int> face(contact_.size());
     for (int p = 0; p < contact_.size(); ++p) face[p] = p / (n * n);
     // Two particles share a node when they lie within (degree + 1) cells of each other along
-    // each axis.
+    // each axis, so at most sqrt(3) (degree + 1) cells apart.
     layers_ =
         std::make_unique<mpm::LayerProximity>(clamps_.extendedMesh(), std::move(face),
                                               std::sqrt(3.0) * (settings.kernel_degree + 1) * dx_);
