@@ -123,6 +123,53 @@ TEST(LayerProximity, AFoldedSheetIsNearItselfWithinTheKernelReach) {
   }
 }
 
+// A tube of 24 faces round (1 cm faces: radius 3.8 cells) and 30 along, pinched in its middle to
+// an ellipse whose flat sides are 1.5 cells apart, as the twisted tube's neck: the facing sides at
+// the pinch are 12 faces apart along the surface and share grid nodes, so they are near; the
+// round ends, whose opposite sides are 7.6 cells apart, are one layer. (A tube narrower than the
+// kernel's reach, 5.2 cells, is near itself everywhere: its opposite sides share nodes.)
+TEST(LayerProximity, APinchedTubeIsNearItselfAtThePinch) {
+  const int around = 24, along = 30;
+  const double r = around * kDx / (2 * M_PI);
+  QuadMesh tube;
+  for (int j = 0; j <= along; ++j)
+    for (int i = 0; i < around; ++i) {
+      const double phi = 2 * M_PI * i / around;
+      tube.vertices.emplace_back(r * std::cos(phi), r * std::sin(phi), j * kDx);
+    }
+  for (int j = 0; j < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      const int a = j * around + i, b = j * around + (i + 1) % around;
+      tube.quads.push_back({a, b, b + around, a + around});
+    }
+  const double middle = 0.5 * along * kDx, squeeze = 0.75 * kDx / r;
+  const Layers l = findLayers(tube, [&](const Vec3& x) {
+    // y scaled towards `squeeze` within 5 cells of the middle (a smooth bump).
+    const double t = std::max(0.0, 1.0 - std::pow((x.z() - middle) / (5 * kDx), 2));
+    return Vec3(x.x(), x.y() * (1.0 - (1.0 - squeeze) * t), x.z());
+  });
+  int pinch = 0, pinch_near = 0, ends = 0, ends_near = 0;
+  for (std::size_t p = 0; p < l.rest.size(); ++p) {
+    const Vec3& x = l.rest[p];
+    const bool facing = std::abs(x.y()) > 0.7 * r;  // the flattened sides
+    if (std::abs(x.z() - middle) < 1.5 * kDx && facing) {
+      ++pinch;
+      pinch_near += l.near[p];
+    }
+    if (std::abs(x.z() - middle) > 9 * kDx) {
+      ++ends;
+      ends_near += l.near[p];
+    }
+  }
+  std::printf(
+      "tube 24 faces round pinched to 1.5 cells: %d of %d particles of the facing sides at "
+      "the pinch near the other side, %d of %d of the round ends\n",
+      pinch_near, pinch, ends_near, ends);
+  EXPECT_GT(pinch, 0);
+  EXPECT_EQ(pinch_near, pinch);
+  EXPECT_EQ(ends_near, 0);
+}
+
 TEST(LayerProximity, RefusesBadInput) {
   const QuadMesh sheet = makeRectangleMesh(0.1, 0.1, 2, 2);
   EXPECT_THROW(LayerProximity(sheet, {0, 4}, 0.01), InputError);

@@ -20,8 +20,9 @@ namespace chs::mpm {
 // surface distance is measured once, in the rest state, along paths between face centroids
 // through faces sharing a vertex, which overestimate it by at most a face diameter. So a fold
 // tighter than the kernel reach, which the grid cannot resolve as two layers anyway, counts as
-// one layer, and the pinched neck of a tube 12 faces round as two (6 faces along the surface,
-// 1-2 cells in space).
+// one layer, and the pinched neck of a tube 24 faces round as two (12 faces along the surface,
+// 1.5 cells in space); a tube narrower than the reach is near itself everywhere, since its
+// opposite sides share nodes.
 class LayerProximity {
  public:
   // mesh: the surface's faces in their rest state; particle_face: the face each particle lies
