@@ -97,14 +97,7 @@ void parseMeshCollider(Section& s, const std::string& base_dir, ColliderSpec& c)
     if (!(scale.array() > 0.0).all()) fail(s.key("scale"), "must be positive");
   }
   c.pose = parseRigidPose(s);
-  std::vector<std::string> parts;
-  if (YAML::Node n = s.get("parts")) {
-    if (!n.IsSequence() || n.size() == 0) fail(s.key("parts"), "must be a list of names");
-    for (const auto& name : n) {
-      if (!name.IsScalar()) fail(s.key("parts"), "must be a list of names");
-      parts.push_back(name.Scalar());
-    }
-  }
+  const std::vector<std::string> parts = s.names("parts");
   MeshSdfResolution resolution;
   if (s.has("voxel_size")) resolution.voxel_size = s.positive("voxel_size");
   s.done();  // unknown keys before the file is read and its field built (seconds for a body)

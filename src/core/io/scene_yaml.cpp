@@ -93,6 +93,18 @@ std::string YamlSection::text(const std::string& k, const std::string& fallback)
   return n.as<std::string>();
 }
 
+std::vector<std::string> YamlSection::names(const std::string& k) {
+  std::vector<std::string> out;
+  YAML::Node n = get(k);
+  if (!n) return out;
+  if (!n.IsSequence() || n.size() == 0) failKey(key(k), "must be a list of names");
+  for (const auto& name : n) {
+    if (!name.IsScalar()) failKey(key(k), "must be a list of names");
+    out.push_back(name.Scalar());
+  }
+  return out;
+}
+
 Eigen::VectorXd YamlSection::vector(const std::string& k, int size) {
   return toVector(require(k), key(k), size);
 }

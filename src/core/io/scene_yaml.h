@@ -48,6 +48,8 @@ class YamlSection {
   int integer(const std::string& k, int fallback, int minimum);
   bool boolean(const std::string& k, bool fallback);
   std::string text(const std::string& k, const std::string& fallback);
+  // A non-empty list of names (e.g. a mesh file's parts); empty if the key is absent.
+  std::vector<std::string> names(const std::string& k);
   Eigen::VectorXd vector(const std::string& k, int size);
   Eigen::Vector3d vector3(const std::string& k, const Eigen::Vector3d& fallback);
 

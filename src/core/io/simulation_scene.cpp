@@ -31,16 +31,6 @@ std::string resolve(const std::string& path, const std::string& base_dir, const 
 
 // The one key of `kinds` that s has (its other keys are checked by done(): a misspelt kind is
 // then an unknown key, wherever it stands).
-// A mesh file's `parts`: the nodes or meshes to keep (readTriangleMesh); none: all of it.
-std::vector<std::string> partNames(YamlSection& s) {
-  std::vector<std::string> parts;
-  if (!s.has("parts")) return parts;
-  const YAML::Node n = s.get("parts");
-  if (!n.IsSequence() || n.size() == 0) failKey(s.key("parts"), "must be a list of names");
-  for (const auto& name : n) parts.push_back(YamlSection::scalarText(name));
-  return parts;
-}
-
 std::string presentKind(const YamlSection& s, const std::vector<std::string>& kinds,
                         const std::string& what) {
   std::string found, list;
@@ -177,7 +167,7 @@ ColliderShape parseShape(YamlSection& c, const std::string& kind, const std::str
     shape.type = ColliderShape::Type::kMesh;
     shape.mesh_file = resolve(s.text("file", ""), base_dir, s.key("file"));
     shape.mesh_scale = Eigen::Vector3d::Constant(s.positive("scale", 1.0));
-    shape.mesh_parts = partNames(s);
+    shape.mesh_parts = s.names("parts");  // the file's nodes or meshes to keep
     shape.mesh_resolution.voxel_size = s.number("voxel_size", 0.0);
     if (shape.mesh_resolution.voxel_size < 0.0)
       failKey(s.key("voxel_size"), "must not be negative (0: default)");
@@ -252,18 +242,14 @@ rod::Polylines parseStrands(YamlSection& h, const std::string& base_dir) {
         // The scalp region of a triangle mesh (a head model) instead of an ellipsoid's patch.
         if (g.has("radii")) failKey(g.key("radii"), "goes with an ellipsoid, not with mesh");
         YamlSection m(g.get("mesh"), g.key("mesh"));
-        const std::string file = m.text("file", "");
-        if (file.empty()) failKey(m.key("file"), "missing (a triangle mesh, e.g. .obj, .dae)");
+        const std::string path = resolve(m.text("file", ""), base_dir, m.key("file"));
         const double scale = m.positive("scale", 1.0);
-        const std::vector<std::string> parts = partNames(m);
+        const std::vector<std::string> parts = m.names("parts");
         m.done();
         g.done();
-        const std::filesystem::path path = std::filesystem::path(file).is_absolute()
-                                               ? std::filesystem::path(file)
-                                               : std::filesystem::path(base_dir) / file;
         TriangleMesh mesh;
         try {
-          mesh = readTriangleMesh(path.string(), Eigen::Vector3d::Constant(scale), parts);
+          mesh = readTriangleMesh(path, Eigen::Vector3d::Constant(scale), parts);
         } catch (const InputError& e) {
           failKey(m.key("file"), e.what());
         }
