@@ -38,12 +38,12 @@ using Vec3 = Eigen::Vector3d;
 constexpr double kHead = 0.09;  // scalp radius [m]
 constexpr int kSegments = 24;
 
-// Roots on the upper hemisphere, spread by the golden angle.
 void setContinuum(chs::rod::HairSettings& s, int mode) {
   s.continuum.enabled = mode > 0;
   if (mode == 2) s.pic_blend = 0.95;
 }
 
+// Roots on the upper hemisphere, spread by the golden angle.
 std::shared_ptr<chs::rod::HairDynamics> headOfHair(int strands, int continuum) {
   chs::rod::HairSettings s;
   s.grid_spacing = 0.01;
@@ -111,6 +111,7 @@ BENCHMARK(hairFrame)
     ->Args({100, 1, 2})
     ->Args({1000, 1, 0})
     ->Args({1000, 2, 0})
+    ->Iterations(10)  // the same frames in every run, so that builds compare
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

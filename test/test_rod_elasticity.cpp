@@ -6,14 +6,18 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <stdexcept>
+#include <utility>
 
 #include <gtest/gtest.h>
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/rod/discrete_elastic_rod.h"
 #include "cloth_hair_sim/core/rod/strand_newton_solver.h"
 #include "cloth_hair_sim/core/rod/strand_shapes.h"
+#include "cloth_hair_sim/core/solver/banded_cholesky.h"
 
 namespace chs::rod {
 namespace {
@@ -69,11 +73,9 @@ TEST(RodElasticity, GradientMatchesFiniteDifferences) {
 TEST(RodElasticity, HessianMatchesFiniteDifferences) {
   DiscreteElasticRod rod = perturbedHelix();
   const Eigen::VectorXd q = rod.configuration();
-  std::vector<Eigen::Triplet<double>> t;
-  rod.addElasticDerivatives(nullptr, &t, false);
-  Eigen::SparseMatrix<double> H(rod.numDofs(), rod.numDofs());
-  H.setFromTriplets(t.begin(), t.end());
-  const Eigen::MatrixXd Hd(H);
+  chs::SymmetricBandMatrix H(rod.numDofs(), rod.hessianBandwidth());
+  rod.addElasticDerivatives(nullptr, &H, false);
+  const Eigen::MatrixXd Hd = H.dense();
   // Second differences of the energy, every configuration transported from q.
   const double h = 1e-4;
   const auto energy = [&](int k, double sk, int l, double sl) {
@@ -94,7 +96,44 @@ TEST(RodElasticity, HessianMatchesFiniteDifferences) {
   const double scale = Hd.cwiseAbs().maxCoeff();
   std::printf("rod Hessian vs second differences: max error %.3e (|H| max %.3e)\n", worst, scale);
   EXPECT_LT(worst, 1e-5 * scale);
-  EXPECT_LT((Hd - Hd.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
+}
+
+// The strand's banded Cholesky against Eigen's dense one: a random SPD band matrix (the open
+// strand's half-bandwidth 10, and a full band as a ring's), a shifted singular one, and an
+// indefinite one it must refuse.
+TEST(RodElasticity, BandedCholeskyAgreesWithDenseCholesky) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const auto& [n, kd] : {std::pair{99, 10}, std::pair{40, 39}, std::pair{7, 6}}) {
+    chs::SymmetricBandMatrix a(n, kd);
+    for (int c = 0; c < n; ++c) {
+      for (int r = c + 1; r <= std::min(n - 1, c + kd); ++r) a.add(r, c, u(rng));
+      a.add(c, c, 2.0 * kd + 1.0);  // diagonally dominant
+    }
+    const Eigen::MatrixXd dense = a.dense();
+    Eigen::VectorXd b(n);
+    for (int k = 0; k < n; ++k) b[k] = u(rng);
+    chs::BandedCholesky llt;
+    ASSERT_TRUE(llt.factorize(a));
+    const Eigen::VectorXd x = llt.solve(b), reference = dense.llt().solve(b);
+    const double error = (x - reference).norm() / reference.norm();
+    std::printf("banded Cholesky, n %d, kd %d: relative difference from dense LLT %.2e\n", n, kd,
+                error);
+    EXPECT_LT(error, 1e-13);
+    a.add(n / 2, n / 2, -4.0 * kd - 2.0);  // a negative pivot
+    EXPECT_FALSE(llt.factorize(a));
+    EXPECT_THROW(llt.solve(b), std::logic_error);
+  }
+  chs::SymmetricBandMatrix singular(2, 1);  // [1 1; 1 1]
+  singular.add(0, 0, 1.0);
+  singular.add(1, 1, 1.0);
+  singular.add(1, 0, 1.0);
+  chs::BandedCholesky llt;
+  EXPECT_FALSE(llt.factorize(singular));
+  ASSERT_TRUE(llt.factorize(singular, 1e-3));
+  const Eigen::Vector2d x = llt.solve(Eigen::Vector2d(1.0, 0.0));
+  EXPECT_NEAR(x[0], 1.001 / (1.001 * 1.001 - 1.0), 1e-6);
+  EXPECT_THROW(singular.add(3, 1, 1.0), std::logic_error);  // beyond the matrix
 }
 
 // Root vertex, first edge and its angle held: a clamp.
@@ -326,11 +365,9 @@ TEST(RodElasticity, MichellTwistedRingInstability) {
   const double scale = m.bendingStiffness1() / (L * L * L);
   const auto lowest = [&](double phi) {
     rod.setNaturalShape(straight, std::vector<double>(n, -phi / n));
-    std::vector<Eigen::Triplet<double>> t;
-    rod.addElasticDerivatives(nullptr, &t, false);
-    Eigen::SparseMatrix<double> H(rod.numDofs(), rod.numDofs());
-    H.setFromTriplets(t.begin(), t.end());
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Eigen::MatrixXd(H), Eigen::EigenvaluesOnly);
+    chs::SymmetricBandMatrix H(rod.numDofs(), rod.hessianBandwidth());
+    rod.addElasticDerivatives(nullptr, &H, false);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(H.dense(), Eigen::EigenvaluesOnly);
     return es.eigenvalues()[0] / scale;
   };
   const double threshold = -1e-6;

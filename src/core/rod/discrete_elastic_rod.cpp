@@ -185,8 +185,7 @@ double DiscreteElasticRod::elasticEnergy() const {
 }
 
 void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
-                                               std::vector<Eigen::Triplet<double>>* hessian,
-                                               bool project) const {
+                                               SymmetricBandMatrix* hessian, bool project) const {
   const bool want_h = hessian != nullptr;
   // Stretching: E = EA / 2 (|e| / L - 1)^2 L on edge j, unknowns x_j, x_{j+1}.
   for (int j = 0; j < numEdges(); ++j) {
@@ -206,35 +205,27 @@ void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
     if (project) across = std::max(across, 0.0);
     const Mat3 h =
         stretch_ / L * t * t.transpose() + across * (Mat3::Identity() - t * t.transpose());
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) {
-        hessian->emplace_back(a + r, a + c, h(r, c));
-        hessian->emplace_back(b + r, b + c, h(r, c));
-        hessian->emplace_back(a + r, b + c, -h(r, c));
-        hessian->emplace_back(b + r, a + c, -h(r, c));
-      }
+    hessian->addBlock(a, a, h);
+    hessian->addBlock(b, b, h);
+    hessian->addBlock(a, b, -h);
+    hessian->addBlock(b, a, -h);
   }
   // Bending and twisting at vertex i, in the local variables (e, theta_e, f, theta_f) of
   // curvature.h; those map to the unknowns (x_{i-1}, theta_{i-1}, x_i, theta_i, x_{i+1}) by
   // e = x_i - x_{i-1}, f = x_{i+1} - x_i (contiguous in q for an open rod, q.segment(4 (i - 1),
-  // 11); a ring's vertex 0 wraps round).
-  Eigen::Matrix<double, 8, 11> J = Eigen::Matrix<double, 8, 11>::Zero();
-  J.block<3, 3>(0, 0) = -Mat3::Identity();
-  J.block<3, 3>(0, 4) = Mat3::Identity();
-  J(3, 3) = 1.0;
-  J.block<3, 3>(4, 4) = -Mat3::Identity();
-  J.block<3, 3>(4, 8) = Mat3::Identity();
-  J(7, 7) = 1.0;
+  // 11); a ring's vertex 0 wraps round): local variable a is +unknown plus[a] - unknown
+  // minus[a] (no minus for the angles).
   for (int i = firstBendingVertex(); i < endBendingVertex(); ++i) {
     const int p = previousEdge(i), next = edgeEnd(i);
-    int dof[11];
+    int plus[8], minus[8];
     for (int k = 0; k < 3; ++k) {
-      dof[k] = vertexDof(p) + k;
-      dof[4 + k] = vertexDof(i) + k;
-      dof[8 + k] = vertexDof(next) + k;
+      plus[k] = minus[4 + k] = vertexDof(i) + k;
+      minus[k] = vertexDof(p) + k;
+      plus[4 + k] = vertexDof(next) + k;
     }
-    dof[3] = angleDof(p);
-    dof[7] = angleDof(i);
+    plus[3] = angleDof(p);
+    plus[7] = angleDof(i);
+    minus[3] = minus[7] = -1;
     const Vec3 e = x_[i] - x_[p], f = x_[next] - x_[i];
     const CurvatureDerivatives k =
         curvatureDerivatives(e, f, {m1_[p], m2_[p], m1_[i], m2_[i]}, want_h);
@@ -245,22 +236,44 @@ void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
     const double b1 = bend_1_ / l, b2 = bend_2_ / l, gj = twist_stiffness_ / l;
     const Vector8d g =
         b1 * dk[0] * k.gradient[0] + b2 * dk[1] * k.gradient[1] + gj * dm * tw.gradient;
-    if (gradient) {
-      const Eigen::Matrix<double, 11, 1> gl = J.transpose().lazyProduct(g);
-      for (int r = 0; r < 11; ++r) (*gradient)[dof[r]] += gl[r];
-    }
+    if (gradient)
+      for (int a = 0; a < 8; ++a) {
+        (*gradient)[plus[a]] += g[a];
+        if (minus[a] >= 0) (*gradient)[minus[a]] -= g[a];
+      }
     if (!want_h) continue;
     Matrix8d h = b1 * (k.gradient[0] * k.gradient[0].transpose() + dk[0] * k.hessian[0]) +
                  b2 * (k.gradient[1] * k.gradient[1].transpose() + dk[1] * k.hessian[1]) +
                  gj * (tw.gradient * tw.gradient.transpose() + dm * tw.hessian);
     if (project) projectPositive<8>(h);
-    // Lazy (coefficient-wise) products: for these small fixed sizes Eigen's blocked GEMM costs
-    // more than the arithmetic (a tenth of a hair step in the profile).
-    const Eigen::Matrix<double, 11, 8> Jh = J.transpose().lazyProduct(h);
-    const Eigen::Matrix<double, 11, 11> H = Jh.lazyProduct(J);
-    for (int r = 0; r < 11; ++r)
-      for (int c = 0; c < 11; ++c)
-        if (H(r, c) != 0.0) hessian->emplace_back(dof[r], dof[c], H(r, c));
+    if (next == i + 1 && p == i - 1) {
+      // The 11 unknowns are contiguous: H = J^T h J as a dense block, first T = h J (J's
+      // columns: x_{i-1} -e, theta_{i-1}, x_i e - f, theta_i, x_{i+1} f), then J^T T.
+      Eigen::Matrix<double, 8, 11> T;
+      T.leftCols<3>() = -h.leftCols<3>();
+      T.col(3) = h.col(3);
+      T.middleCols<3>(4) = h.leftCols<3>() - h.middleCols<3>(4);
+      T.col(7) = h.col(7);
+      T.rightCols<3>() = h.middleCols<3>(4);
+      Eigen::Matrix<double, 11, 11> H;
+      H.topRows<3>() = -T.topRows<3>();
+      H.row(3) = T.row(3);
+      H.middleRows<3>(4) = T.topRows<3>() - T.middleRows<3>(4);
+      H.row(7) = T.row(7);
+      H.bottomRows<3>() = T.middleRows<3>(4);
+      hessian->addDiagonalBlock(vertexDof(p), H);
+      continue;
+    }
+    // A ring's vertex 0: H = J^T h J entry by entry (J's entries are +-1).
+    for (int a = 0; a < 8; ++a)
+      for (int b = 0; b < 8; ++b) {
+        const double v = h(a, b);
+        hessian->add(plus[a], plus[b], v);
+        if (minus[b] >= 0) hessian->add(plus[a], minus[b], -v);
+        if (minus[a] < 0) continue;
+        hessian->add(minus[a], plus[b], -v);
+        if (minus[b] >= 0) hessian->add(minus[a], minus[b], v);
+      }
   }
 }
 

@@ -144,17 +144,14 @@ double ObstacleContact::energy(const Eigen::VectorXd& q) const {
 }
 
 void ObstacleContact::addDerivatives(const Eigen::VectorXd& q, Eigen::VectorXd& gradient,
-                                     std::vector<Eigen::Triplet<double>>* hessian) const {
+                                     SymmetricBandMatrix* hessian) const {
   Vec3 g;
   Mat3 h;
   for (const LaggedContact& c : contacts_) {
     contactDerivatives(c, vertex(q, c.vertex), g, hessian ? &h : nullptr);
     const int k = 4 * c.vertex;
     gradient.segment<3>(k) += g;
-    if (!hessian) continue;
-    for (int r = 0; r < 3; ++r)
-      for (int s = 0; s < 3; ++s)
-        if (h(r, s) != 0.0) hessian->emplace_back(k + r, k + s, h(r, s));
+    if (hessian) hessian->addBlock(k, k, h);
   }
 }
 

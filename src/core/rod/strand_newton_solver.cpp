@@ -7,7 +7,6 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/SparseCore>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/rod/parallel_transport.h"
@@ -18,7 +17,6 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
-using Triplets = std::vector<Eigen::Triplet<double>>;
 
 Mat3 crossMatrix(const Vec3& a) {
   Mat3 m;
@@ -94,14 +92,18 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   if (!std::isfinite(value)) return result;
   rod.commit();
   Eigen::VectorXd g(n);
-  Triplets triplets;
   // The unknowns are in band order (solver/banded_cholesky.h).
+  SymmetricBandMatrix hessian;
   BandedCholesky cholesky;
   // The Newton matrix: the true Hessian where it is positive definite (quadratic convergence
-  // near a stable equilibrium), else the element-wise projected one (a descent direction).
+  // near a stable equilibrium), else the element-wise projected one (a descent direction). The
+  // first iteration, from the step's start far from the solve's end, takes the projected one at
+  // once: the true one failed there for 38 % of a head of hair's strand-steps, each failure
+  // costing a second assembly and factorisation (and the worst strand took 12 iterations
+  // instead of 7).
   // The gradient of Phi's terms besides the elasticity, at q, and the obstacles' Hessian.
-  const auto addLoadGradient = [&](Eigen::VectorXd& grad, Triplets* hessian) {
-    if (loads.obstacles) loads.obstacles->addDerivatives(q, grad, hessian);
+  const auto addLoadGradient = [&](Eigen::VectorXd& grad, SymmetricBandMatrix* h) {
+    if (loads.obstacles) loads.obstacles->addDerivatives(q, grad, h);
     for (int k = 0; k < n && dynamic; ++k)
       grad[k] += inv_dt2 * mass[k] * (q[k] - loads.inertial_target[k]);
     for (int i = 0; i < nv; ++i) {
@@ -118,10 +120,10 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   };
   const auto newtonStep = [&](bool project, Eigen::VectorXd& dq) {
     g.setZero();
-    triplets.clear();
-    rod.addElasticDerivatives(&g, &triplets, project);
-    addLoadGradient(g, &triplets);
-    for (int k = 0; k < n && dynamic; ++k) triplets.emplace_back(k, k, inv_dt2 * mass[k]);
+    hessian.reset(n, rod.hessianBandwidth());
+    rod.addElasticDerivatives(&g, &hessian, project);
+    addLoadGradient(g, &hessian);
+    for (int k = 0; k < n && dynamic; ++k) hessian.lower(k, k) += inv_dt2 * mass[k];
     if (loads.tip_moment != 0.0) {
       // phi = atan2 in the plane normal to the axis: d phi / de = a x e / |e_p|^2, and its
       // Hessian [a]x / |e_p|^2 - 2 (a x e) e_p^T / |e_p|^4 (symmetric).
@@ -136,37 +138,26 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
             es.eigenvectors().transpose();
       }
 
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) {
-          triplets.emplace_back(tip + r, tip + c, h(r, c));
-          triplets.emplace_back(before_tip + r, before_tip + c, h(r, c));
-          triplets.emplace_back(tip + r, before_tip + c, -h(r, c));
-          triplets.emplace_back(before_tip + r, tip + c, -h(r, c));
-        }
+      hessian.addBlock(tip, tip, h);
+      hessian.addBlock(before_tip, before_tip, h);
+      hessian.addBlock(tip, before_tip, -h);
     }
     // Held unknowns: identity rows, zero gradient.
-    if (!loads.held.empty()) {
-      triplets.erase(std::remove_if(triplets.begin(), triplets.end(),
-                                    [&](const Eigen::Triplet<double>& t) {
-                                      return held(t.row()) || held(t.col());
-                                    }),
-                     triplets.end());
-      for (int k = 0; k < n; ++k)
-        if (held(k)) {
-          g[k] = 0.0;
-          triplets.emplace_back(k, k, 1.0);
-        }
-    }
-    if (cholesky.factorize(n, triplets)) {
+    for (int k = 0; k < n; ++k)
+      if (held(k)) {
+        g[k] = 0.0;
+        hessian.hold(k);
+      }
+    if (cholesky.factorize(hessian)) {
       dq = -cholesky.solve(g);
       return true;
     }
     if (!project) return false;
     // Semi-definite blocks can still sum to a singular matrix (a free strand's rigid motions in
     // a static solve): shift until the factorisation succeeds.
-    const double diag_max = cholesky.maxDiagonal();
+    const double diag_max = hessian.maxDiagonal();
     for (double shift = 1e-12 * diag_max; shift <= diag_max; shift *= 10.0)
-      if (cholesky.factorize(n, triplets, shift)) {
+      if (cholesky.factorize(hessian, shift)) {
         dq = -cholesky.solve(g);
         return true;
       }
@@ -178,7 +169,10 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   // only once the edges turn by less than about r / l per step. Each trial is therefore first
   // tried with its edges turned but kept at their present lengths (a retraction onto the
   // iterate's edge lengths, from the first vertex outwards) and as it is, and the lower
-  // potential of the two taken.
+  // potential of the two taken. A step that turns no edge by more than a tenth of r / l is in
+  // that quadratic range, where the two differ by far less than the step: tried as it is alone.
+  const double thickness = std::min(rod.material().radius_1, rod.material().semiAxis2());
+  const double small_turn = 0.1 * thickness / mean_segment;
   std::vector<double> lengths(rod.numEdges());
   const auto retract = [&](const Eigen::VectorXd& x) {
     Eigen::VectorXd r = x;
@@ -199,7 +193,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       lengths[j] = (q.segment<3>(DiscreteElasticRod::vertexDof(rod.edgeEnd(j))) -
                     q.segment<3>(DiscreteElasticRod::vertexDof(j)))
                        .norm();
-    if (!newtonStep(false, dq) && !newtonStep(true, dq)) break;
+    if (!(result.iterations > 0 && newtonStep(false, dq)) && !newtonStep(true, dq)) break;
     double step = 0.0;
     for (int i = 0; i < nv; ++i)
       step = std::max(step, dq.segment<3>(DiscreteElasticRod::vertexDof(i)).norm() / mean_segment);
@@ -211,8 +205,10 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
     const double slope = g.dot(dq), slack = 1e-14 * std::abs(value);
     bool accepted = false;
     for (double alpha = 1.0; alpha > 1e-10 && !accepted; alpha *= 0.5) {
-      const Eigen::VectorXd plain = q + alpha * dq, turned = retract(plain);
-      const double v_plain = potential(plain), v_turned = potential(turned);
+      const Eigen::VectorXd plain = q + alpha * dq;
+      const bool retracting = alpha * step > small_turn;
+      const Eigen::VectorXd turned = retracting ? retract(plain) : plain;
+      const double v_plain = potential(plain), v_turned = retracting ? potential(turned) : v_plain;
       const bool take_turned = v_turned < v_plain;
       const double v = take_turned ? v_turned : v_plain;
       if (v <= value + 1e-4 * alpha * slope + slack) {

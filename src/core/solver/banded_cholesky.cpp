@@ -1,53 +1,54 @@
 #include "cloth_hair_sim/core/solver/banded_cholesky.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <stdexcept>
 
-// LAPACK (Fortran): the trailing arguments are the hidden lengths of the character arguments.
-extern "C" {
-void dpbtrf_(const char* uplo, const int* n, const int* kd, double* ab, const int* ldab, int* info,
-             std::size_t uplo_length);
-void dpbtrs_(const char* uplo, const int* n, const int* kd, const int* nrhs, const double* ab,
-             const int* ldab, double* b, const int* ldb, int* info, std::size_t uplo_length);
-}
-
 namespace chs {
 
-bool BandedCholesky::factorize(int n, const std::vector<Eigen::Triplet<double>>& entries,
-                               double shift) {
-  factorized_ = false;
-  n_ = n;
-  kd_ = 0;
-  for (const auto& t : entries)
-    if (t.row() >= t.col()) kd_ = std::max(kd_, t.row() - t.col());
-  const int ld = kd_ + 1;
-  band_.assign(static_cast<std::size_t>(ld) * n, 0.0);
-  for (const auto& t : entries)
-    if (t.row() >= t.col())
-      band_[static_cast<std::size_t>(t.col()) * ld + (t.row() - t.col())] += t.value();
-  max_diagonal_ = 0.0;
-  for (int j = 0; j < n; ++j) {
-    double& d = band_[static_cast<std::size_t>(j) * ld];
-    max_diagonal_ = std::max(max_diagonal_, d);
-    d += shift;
+bool BandedCholesky::factorize(const SymmetricBandMatrix& a, double shift) {
+  n_ = a.size();
+  kd_ = a.bandwidth();
+  band_ = a.band();
+  const std::size_t ld = static_cast<std::size_t>(kd_) + 1;
+  for (int j = 0; j < n_; ++j) band_[j * ld] += shift;
+  // Column by column (right-looking): L_jj = sqrt(a_jj), the column below it divided by L_jj,
+  // then the trailing band less the column's outer product.
+  for (int j = 0; j < n_; ++j) {
+    double* col = &band_[j * ld];
+    if (!(col[0] > 0.0) || !std::isfinite(col[0])) return factorized_ = false;
+    const double d = std::sqrt(col[0]);
+    col[0] = d;
+    const int m = std::min(kd_, n_ - 1 - j);
+    for (int i = 1; i <= m; ++i) col[i] /= d;
+    for (int k = 1; k <= m; ++k) {
+      double* next = &band_[(j + k) * ld];  // column j + k, from its diagonal
+      const double lk = col[k];
+      for (int i = k; i <= m; ++i) next[i - k] -= col[i] * lk;
+    }
   }
-  if (n == 0) return factorized_ = true;
-  int info = 0;
-  dpbtrf_("L", &n_, &kd_, band_.data(), &ld, &info, 1);
-  factorized_ = info == 0;
-  return factorized_;
+  return factorized_ = true;
 }
 
 Eigen::VectorXd BandedCholesky::solve(const Eigen::VectorXd& b) const {
   if (!factorized_ || b.size() != n_)
     throw std::logic_error("BandedCholesky::solve without a factorisation of that size");
+  const std::size_t ld = static_cast<std::size_t>(kd_) + 1;
   Eigen::VectorXd x = b;
-  if (n_ == 0) return x;
-  const int ld = kd_ + 1, nrhs = 1;
-  int info = 0;
-  dpbtrs_("L", &n_, &kd_, &nrhs, band_.data(), &ld, x.data(), &n_, &info, 1);
-  if (info != 0) throw std::logic_error("BandedCholesky::solve: dpbtrs failed");
+  for (int j = 0; j < n_; ++j) {  // L y = b
+    const double* col = &band_[j * ld];
+    x[j] /= col[0];
+    const int m = std::min(kd_, n_ - 1 - j);
+    for (int i = 1; i <= m; ++i) x[j + i] -= col[i] * x[j];
+  }
+  for (int j = n_ - 1; j >= 0; --j) {  // L^T x = y
+    const double* col = &band_[j * ld];
+    const int m = std::min(kd_, n_ - 1 - j);
+    double s = x[j];
+    for (int i = 1; i <= m; ++i) s -= col[i] * x[j + i];
+    x[j] = s / col[0];
+  }
   return x;
 }
 

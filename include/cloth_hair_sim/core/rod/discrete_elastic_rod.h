@@ -1,12 +1,13 @@
 #pragma once
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
-#include <Eigen/SparseCore>
 
 #include "cloth_hair_sim/core/io/state_stream.h"
 #include "cloth_hair_sim/core/rod/rod_material.h"
+#include "cloth_hair_sim/core/solver/symmetric_band_matrix.h"
 
 namespace chs::rod {
 
@@ -93,12 +94,16 @@ class DiscreteElasticRod {
   void commit();
 
   double elasticEnergy() const;
-  // Adds dE/dq to `gradient` (numDofs()) and d2E/dq2 to `hessian` as triplets; either may be
-  // null. With `project`, each vertex's bending-and-twisting block and each edge's stretching
-  // block are made positive semi-definite (negative eigenvalues set to zero) so that Newton's
-  // steps descend.
-  void addElasticDerivatives(Eigen::VectorXd* gradient,
-                             std::vector<Eigen::Triplet<double>>* hessian, bool project) const;
+  // Adds dE/dq to `gradient` (numDofs()) and d2E/dq2 to `hessian` (of numDofs() and
+  // hessianBandwidth() at least); either may be null. With `project`, each vertex's
+  // bending-and-twisting block and each edge's stretching block are made positive semi-definite
+  // (negative eigenvalues set to zero) so that Newton's steps descend.
+  void addElasticDerivatives(Eigen::VectorXd* gradient, SymmetricBandMatrix* hessian,
+                             bool project) const;
+  // The Hessian's half-bandwidth in the unknowns' order: a vertex's bending couples the
+  // unknowns of its two edges (10 apart); a ring's first vertex couples its last edge to its
+  // first, across the whole matrix.
+  int hessianBandwidth() const { return closed_ ? numDofs() - 1 : std::min(10, numDofs() - 1); }
 
  private:
   void updateFrames();  // tangents, reference and material frames, curvature binormals

@@ -3,10 +3,10 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <Eigen/SparseCore>
 
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
+#include "cloth_hair_sim/core/solver/symmetric_band_matrix.h"
 
 namespace chs::rod {
 
@@ -94,9 +94,9 @@ class ObstacleContact {
 
   double energy(const Eigen::VectorXd& q) const;
   // Adds the gradient (vertex i's at 4 i) and the Hessian (positive semi-definite, the normal's
-  // curvature dropped) as triplets; hessian may be null.
+  // curvature dropped); hessian may be null.
   void addDerivatives(const Eigen::VectorXd& q, Eigen::VectorXd& gradient,
-                      std::vector<Eigen::Triplet<double>>* hessian) const;
+                      SymmetricBandMatrix* hessian) const;
   // The force each contact applies to its vertex at q (minus its gradient).
   std::vector<Eigen::Vector3d> forces(const Eigen::VectorXd& q) const;
 
