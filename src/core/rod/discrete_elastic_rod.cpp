@@ -3,7 +3,6 @@
 #include <cmath>
 #include <string>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
@@ -20,15 +19,6 @@ constexpr double kMinSegment = 1e-9;  // [m]: shorter is a duplicate vertex
 // 1 + te . tf below this is a segment folded back onto its neighbour (turned by > 179.9 deg):
 // the curvature binormal 2 tan(phi / 2) has no finite value there.
 constexpr double kMinChi = 1e-6;
-
-// Sets negative eigenvalues of a symmetric matrix to zero.
-template <int N>
-void projectPositive(Eigen::Matrix<double, N, N>& h) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(h);
-  if (es.eigenvalues().minCoeff() >= 0.0) return;
-  const Eigen::Matrix<double, N, 1> l = es.eigenvalues().cwiseMax(0.0);
-  h = es.eigenvectors() * l.asDiagonal() * es.eigenvectors().transpose();
-}
 
 }  // namespace
 
@@ -185,7 +175,8 @@ double DiscreteElasticRod::elasticEnergy() const {
 }
 
 void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
-                                               SymmetricBandMatrix* hessian, bool project) const {
+                                               SymmetricBandMatrix* hessian,
+                                               bool gauss_newton) const {
   const bool want_h = hessian != nullptr;
   // Stretching: E = EA / 2 (|e| / L - 1)^2 L on edge j, unknowns x_j, x_{j+1}.
   for (int j = 0; j < numEdges(); ++j) {
@@ -200,9 +191,9 @@ void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
     }
     if (!want_h) continue;
     // Along the edge EA / L; across it the tension EA (1 / L - 1 / l), dropped when compressed
-    // (negative) if projecting.
+    // (negative) in the Gauss-Newton form.
     double across = stretch_ * (1.0 / L - 1.0 / l);
-    if (project) across = std::max(across, 0.0);
+    if (gauss_newton) across = std::max(across, 0.0);
     const Mat3 h =
         stretch_ / L * t * t.transpose() + across * (Mat3::Identity() - t * t.transpose());
     hessian->addBlock(a, a, h);
@@ -242,10 +233,13 @@ void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
         if (minus[a] >= 0) (*gradient)[minus[a]] -= g[a];
       }
     if (!want_h) continue;
-    Matrix8d h = b1 * (k.gradient[0] * k.gradient[0].transpose() + dk[0] * k.hessian[0]) +
-                 b2 * (k.gradient[1] * k.gradient[1].transpose() + dk[1] * k.hessian[1]) +
-                 gj * (tw.gradient * tw.gradient.transpose() + dm * tw.hessian);
-    if (project) projectPositive<8>(h);
+    // The energy's Hessian sum_c B_c (grad c grad c^T + (c - c_rest) hess c) over the strains c
+    // (two curvatures, the twist); the Gauss-Newton form keeps the first, positive part.
+    Matrix8d h = b1 * k.gradient[0] * k.gradient[0].transpose() +
+                 b2 * k.gradient[1] * k.gradient[1].transpose() +
+                 gj * tw.gradient * tw.gradient.transpose();
+    if (!gauss_newton)
+      h += b1 * dk[0] * k.hessian[0] + b2 * dk[1] * k.hessian[1] + gj * dm * tw.hessian;
     if (next == i + 1 && p == i - 1) {
       // The 11 unknowns are contiguous: H = J^T h J as a dense block, first T = h J (J's
       // columns: x_{i-1} -e, theta_{i-1}, x_i e - f, theta_i, x_{i+1} f), then J^T T.

@@ -96,9 +96,9 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   SymmetricBandMatrix hessian;
   BandedCholesky cholesky;
   // The Newton matrix: the true Hessian where it is positive definite (quadratic convergence
-  // near a stable equilibrium), else the element-wise projected one (a descent direction). The
-  // first iteration, from the step's start far from the solve's end, takes the projected one at
-  // once: the true one failed there for 38 % of a head of hair's strand-steps, each failure
+  // near a stable equilibrium), else its Gauss-Newton form (positive: a descent direction). The
+  // first iteration, from the step's start far from the solve's end, takes the Gauss-Newton form
+  // at once: the true one failed there for 38 % of a head of hair's strand-steps, each failure
   // costing a second assembly and factorisation (and the worst strand took 12 iterations
   // instead of 7).
   // The gradient of Phi's terms besides the elasticity, at q, and the obstacles' Hessian.
@@ -118,10 +118,10 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       grad.segment<3>(before_tip) += loads.tip_moment * dphi;
     }
   };
-  const auto newtonStep = [&](bool project, Eigen::VectorXd& dq) {
+  const auto newtonStep = [&](bool gauss_newton, Eigen::VectorXd& dq) {
     g.setZero();
     hessian.reset(n, rod.hessianBandwidth());
-    rod.addElasticDerivatives(&g, &hessian, project);
+    rod.addElasticDerivatives(&g, &hessian, gauss_newton);
     addLoadGradient(g, &hessian);
     for (int k = 0; k < n && dynamic; ++k) hessian.lower(k, k) += inv_dt2 * mass[k];
     if (loads.tip_moment != 0.0) {
@@ -132,7 +132,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       Mat3 h = -loads.tip_moment *
                (crossMatrix(axis) / r2 - 2.0 * axis.cross(e) * ep.transpose() / (r2 * r2));
       h = 0.5 * (h + h.transpose());
-      if (project) {
+      if (gauss_newton) {  // its negative eigenvalues zeroed
         Eigen::SelfAdjointEigenSolver<Mat3> es(h);
         h = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
             es.eigenvectors().transpose();
@@ -152,7 +152,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       dq = -cholesky.solve(g);
       return true;
     }
-    if (!project) return false;
+    if (!gauss_newton) return false;
     // Semi-definite blocks can still sum to a singular matrix (a free strand's rigid motions in
     // a static solve): shift until the factorisation succeeds.
     const double diag_max = hessian.maxDiagonal();

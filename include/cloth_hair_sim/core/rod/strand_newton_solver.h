@@ -47,9 +47,10 @@ struct StrandNewtonResult {
   Eigen::VectorXd held_reaction;
 };
 
-// Newton's method with the assembled sparse (banded) Hessian of Phi, each element's block made
-// positive semi-definite (DiscreteElasticRod::addElasticDerivatives), factored by sparse LDL^T
-// (Eigen's SimplicialLDLT; shifted when indefinite or singular), and a backtracking (Armijo)
+// Newton's method with the banded Hessian of Phi, assembled in place (the true one, or its
+// Gauss-Newton form where the true one is not positive definite and on the first iteration:
+// DiscreteElasticRod::addElasticDerivatives), factored by a band Cholesky (shifted when
+// singular: solver/banded_cholesky.h), and a backtracking (Armijo)
 // line search on Phi that also refuses configurations where the energy is not defined. The rod
 // ends at the last accepted iterate, committed: its reference frames are transported from
 // iterate to iterate, so that each Newton step's gradient (taken at a committed configuration)
