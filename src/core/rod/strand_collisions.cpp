@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -208,47 +209,60 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
     b.max().array() += 0.5 * grow;
   });
   double mean = 0.0, largest = 0.0;
+  Eigen::AlignedBox3d all;
   for (const Eigen::AlignedBox3d& b : boxes) {
     const double e = b.sizes().maxCoeff();
     mean += e / n;
     largest = std::max(largest, e);
+    all.extend(b);
   }
-  const double h = std::max({mean, largest / 16.0, 1e-300});
-  auto cell = [h](const Vec3& p) { return Eigen::Vector3i((p / h).array().floor().cast<int>()); };
+  // Cells of the mean box's size, numbered from the corner of all boxes with 21 bits per axis
+  // (coarser where the boxes span more than 2^21 cells), so that a cell is one 64-bit key: the
+  // sort below compares integers, not tuples (a third of the broad phase's time).
+  constexpr double kCellsPerAxis = double(1 << 21) - 2.0;
+  const double h = std::max({mean, largest / 16.0, all.sizes().maxCoeff() / kCellsPerAxis, 1e-300});
+  const Vec3 origin = all.min();
+  auto cell = [&](const Vec3& p) {
+    const Eigen::Array3d c = ((p - origin) / h).array().floor().max(0.0).min(kCellsPerAxis);
+    return Eigen::Array3i(c.cast<int>());
+  };
+  auto key = [](int ix, int iy, int iz) {
+    return std::uint64_t(ix) << 42 | std::uint64_t(iy) << 21 | std::uint64_t(iz);
+  };
   struct Entry {
-    int ix, iy, iz, k;
+    std::uint64_t cell;
+    int k;
   };
   std::vector<Entry> entries;
+  entries.reserve(2 * static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
-    const Eigen::Vector3i lo = cell(boxes[k].min()), hi = cell(boxes[k].max());
+    const Eigen::Array3i lo = cell(boxes[k].min()), hi = cell(boxes[k].max());
     for (int ix = lo.x(); ix <= hi.x(); ++ix)
       for (int iy = lo.y(); iy <= hi.y(); ++iy)
-        for (int iz = lo.z(); iz <= hi.z(); ++iz) entries.push_back({ix, iy, iz, k});
+        for (int iz = lo.z(); iz <= hi.z(); ++iz) entries.push_back({key(ix, iy, iz), k});
   }
-  auto key = [](const Entry& e) { return std::tie(e.ix, e.iy, e.iz, e.k); };
-  tbb::parallel_sort(entries.begin(), entries.end(),
-                     [&](const Entry& a, const Entry& b) { return key(a) < key(b); });
+  tbb::parallel_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.cell < b.cell || (a.cell == b.cell && a.k < b.k);
+  });
   std::vector<std::size_t> runs;  // starts of runs of one cell
   for (std::size_t e = 0; e < entries.size(); ++e)
-    if (e == 0 || entries[e].ix != entries[e - 1].ix || entries[e].iy != entries[e - 1].iy ||
-        entries[e].iz != entries[e - 1].iz)
-      runs.push_back(e);
+    if (e == 0 || entries[e].cell != entries[e - 1].cell) runs.push_back(e);
   runs.push_back(entries.size());
   tbb::enumerable_thread_specific<std::vector<Pair>> found;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs.size() - 1),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       std::vector<Pair>& out = found.local();
                       for (std::size_t r = range.begin(); r != range.end(); ++r) {
-                        const Eigen::Vector3i here(entries[runs[r]].ix, entries[runs[r]].iy,
-                                                   entries[runs[r]].iz);
+                        const std::uint64_t here = entries[runs[r]].cell;
                         for (std::size_t p = runs[r]; p < runs[r + 1]; ++p)
                           for (std::size_t q = p + 1; q < runs[r + 1]; ++q) {
                             const int kp = entries[p].k, kq = entries[q].k;
                             const int a = segments_[kp], b = segments_[kq];
                             if (std::abs(a - b) <= 1) continue;  // share a vertex
                             if (!boxes[kp].intersects(boxes[kq])) continue;
-                            const Vec3 corner = boxes[kp].min().cwiseMax(boxes[kq].min());
-                            if (cell(corner) != here) continue;
+                            const Eigen::Array3i corner =
+                                cell(boxes[kp].min().cwiseMax(boxes[kq].min()));
+                            if (key(corner.x(), corner.y(), corner.z()) != here) continue;
                             out.push_back({std::min(a, b), std::max(a, b)});
                           }
                       }
@@ -256,7 +270,7 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
   pairs_.clear();
   for (const std::vector<Pair>& f : found) pairs_.insert(pairs_.end(), f.begin(), f.end());
   std::sort(pairs_.begin(), pairs_.end(),
-            [](const Pair& p, const Pair& q) { return std::tie(p.a, p.b) < std::tie(q.a, q.b); });
+            [](const Pair& p, const Pair& q) { return p.a < q.a || (p.a == q.a && p.b < q.b); });
 }
 
 void StrandCollisions::applyImpulses(const std::vector<Impulse>& impulses, std::vector<Vec3>& v,
