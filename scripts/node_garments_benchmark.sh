@@ -13,22 +13,9 @@ INTEGRATION=${2:-symplectic_euler}
 DT=${3:-0.001}
 SECONDS_WALL=${4:-20}
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-export PATH=/usr/bin:$PATH  # ROS scripts need the system python
-set +u  # the ROS setup scripts read unset variables
-source "$ROOT/build/devel/setup.bash"
-set -u
-export ROS_MASTER_URI=http://127.0.0.1:11398  # a master of its own, beside any other
-LOG=$(mktemp -d)
-roscore -p 11398 >"$LOG/roscore.log" 2>&1 &
-CORE=$!
-trap 'kill $NODE $CORE 2>/dev/null || true' EXIT
-sleep 3
-rosparam load "$ROOT/config/default.yaml" /sim
-rosparam set /sim/dt "$DT"
-rosparam set /sim/mpm/integration "$INTEGRATION"
-rosparam set /sim/colliders "[]"
-"$ROOT/build/devel/lib/cloth_hair_sim/cloth_hair_sim_node" __name:=sim >"$LOG/node.log" 2>&1 &
-NODE=$!
+source "$ROOT/scripts/bench_node.sh"
+bench_params 11398 "$INTEGRATION" "$DT"
+bench_node
 /usr/bin/python3 - "$COUNT" "$SECONDS_WALL" <<'PY'
 import statistics
 import sys

@@ -9,23 +9,10 @@ INTEGRATION=${1:-symplectic_euler}
 DT=${2:-0.001}
 SECONDS_WALL=${3:-20}
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-export PATH=/usr/bin:$PATH  # ROS scripts need the system python
-set +u  # the ROS setup scripts read unset variables
-source "$ROOT/build/devel/setup.bash"
-set -u
-export ROS_MASTER_URI=http://127.0.0.1:11399  # a master of its own, beside any other
-LOG=$(mktemp -d)
-roscore -p 11399 >"$LOG/roscore.log" 2>&1 &
-CORE=$!
-trap 'kill $NODE $CORE 2>/dev/null || true' EXIT
-sleep 3
-rosparam load "$ROOT/config/default.yaml" /sim
+source "$ROOT/scripts/bench_node.sh"
+bench_params 11399 "$INTEGRATION" "$DT"
 rosparam set /sim/real_time_factor 0.0
-rosparam set /sim/dt "$DT"
-rosparam set /sim/mpm/integration "$INTEGRATION"
-rosparam set /sim/colliders "[]"
-"$ROOT/build/devel/lib/cloth_hair_sim/cloth_hair_sim_node" __name:=sim >"$LOG/node.log" 2>&1 &
-NODE=$!
+bench_node
 /usr/bin/python3 - "$SECONDS_WALL" <<'PY'
 import sys
 import time
