@@ -213,7 +213,9 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       const double v = take_turned ? v_turned : v_plain;
       if (v <= value + 1e-4 * alpha * slope + slack) {
         q = take_turned ? turned : plain;
-        rod.setConfiguration(q);
+        // The rod holds the configuration evaluated last (its frames transported from the same
+        // committed one): set again only if that was the other.
+        if (retracting && !take_turned) rod.setConfiguration(q);
         value = v;
         accepted = true;
         rod.commit();
