@@ -102,12 +102,12 @@ TEST(Capstan, HoldRatioIsExpMuTheta) {
     }
 }
 
-// The helical full wrap (theta = 2 pi, pitch 1 mm), on one thread. On two, the grid transfer's
-// thread-local sums meet in a different order from run to run, and at mu = 0.3 that round-off
-// decides whether the strand stays on the cylinder (in 2 runs of 3 on 2026-12-03 it left it:
-// T2 = T1); at mu = 0.2 it held in 10 of 10 runs on two loaded cores, and in 4 of 5 before the
-// strand solve's second pass (docs/VALIDATION.md). One thread sums in one order: the figure is
-// the same in every run.
+// The helical full wrap (theta = 2 pi, pitch 1 mm), on one thread. At mu = 0.3 the round-off of
+// the grid transfer's sums decides whether the strand stays on the cylinder: when those sums
+// followed the threads' work stealing, it left it (T2 = T1) in 2 runs of 3 on two threads. The
+// transfer now sums in an order fixed by the number of threads (mpm/transfers.cpp), so a run is
+// the same on every run with as many threads; on one thread the figure is also the same on every
+// machine.
 TEST(Capstan, HelicalFullWrapOnOneThread) {
   const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   const double T1 = 0.1, theta = 2.0 * M_PI;

@@ -4,8 +4,11 @@
 #include <array>
 #include <string>
 
-#include <tbb/enumerable_thread_specific.h>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
@@ -65,16 +68,23 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
     std::vector<Eigen::Vector3d> mv;
   };
   const int nn = grid.size();
-  tbb::enumerable_thread_specific<Accumulator> local([nn] {
-    return Accumulator{std::vector<double>(nn, 0.0),
-                       std::vector<Eigen::Vector3d>(nn, Eigen::Vector3d::Zero())};
-  });
+  // Fixed chunks of each set's particles, one per thread allowed, each summed in particle order
+  // into a grid of its own, the chunks then added in chunk order: the same sums in every run
+  // with the same number of threads (a work-stealing thread's accumulator held whichever
+  // particles it took, and that round-off decided whether a strand stayed wrapped on a capstan:
+  // test_rod_capstan).
+  const int chunks = static_cast<int>(std::min<std::size_t>(
+      tbb::this_task_arena::max_concurrency(),
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+  std::vector<Accumulator> local(
+      chunks, Accumulator{std::vector<double>(nn, 0.0),
+                          std::vector<Eigen::Vector3d>(nn, Eigen::Vector3d::Zero())});
   for (std::size_t s = 0; s < sets.size(); ++s) {
     const Particles& p = *sets[s];
-    tbb::parallel_for(0, p.size(), [&](int q) {
+    const auto chunk = [&](int c, int q) {
       const double m = p.mass[q];
       if (m == 0.0) return;  // massless particles (the shell's contact particles) add nothing
-      Accumulator& acc = local.local();
+      Accumulator& acc = local[c];
       const ParticleStencil<D> st(p.x[q], dx);
       const auto d = st.nodeOffsets(p.x[q], dx);
       const int* nodes = supports[s].of(q);
@@ -85,7 +95,16 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
         acc.mv[node] +=
             w * m * (p.v[q] + p.C[q] * Eigen::Vector3d(d[0][i], d[1][j], d[2][k]));  // (3.2)
       });
-    });
+    };
+    const long n = p.size();
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, chunks, 1),
+        [&](const tbb::blocked_range<int>& r) {
+          for (int c = r.begin(); c != r.end(); ++c)
+            for (long q = c * n / chunks; q < (c + 1) * n / chunks; ++q)
+              chunk(c, static_cast<int>(q));
+        },
+        tbb::simple_partitioner());
   }
   for (const Accumulator& acc : local)
     for (int i = 0; i < nn; ++i) {
