@@ -4,12 +4,9 @@
 #include <array>
 #include <string>
 
-#include <tbb/blocked_range.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
-#include <tbb/task_arena.h>
 
+#include "cloth_hair_sim/core/common/fixed_chunks.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
 
@@ -63,54 +60,32 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
   const double dx = grid.spacing();
   grid.clear();
   activateSupports<D>(sets, grid, supports);
-  struct Accumulator {
-    std::vector<double> m;
-    std::vector<Eigen::Vector3d> mv;
-  };
   const int nn = grid.size();
-  // Fixed chunks of each set's particles, one per thread allowed, each summed in particle order
-  // into a grid of its own, the chunks then added in chunk order: the same sums in every run
-  // with the same number of threads (a work-stealing thread's accumulator held whichever
-  // particles it took, and that round-off decided whether a strand stayed wrapped on a capstan:
-  // test_rod_capstan).
-  const int chunks = static_cast<int>(std::min<std::size_t>(
-      tbb::this_task_arena::max_concurrency(),
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
-  std::vector<Accumulator> local(
-      chunks, Accumulator{std::vector<double>(nn, 0.0),
-                          std::vector<Eigen::Vector3d>(nn, Eigen::Vector3d::Zero())});
+  // Each set's mass and momentum (m, m v) summed in fixed chunks (common/fixed_chunks.h).
   for (std::size_t s = 0; s < sets.size(); ++s) {
     const Particles& p = *sets[s];
-    const auto chunk = [&](int c, int q) {
-      const double m = p.mass[q];
-      if (m == 0.0) return;  // massless particles (the shell's contact particles) add nothing
-      Accumulator& acc = local[c];
-      const ParticleStencil<D> st(p.x[q], dx);
-      const auto d = st.nodeOffsets(p.x[q], dx);
-      const int* nodes = supports[s].of(q);
-      forSupport<D>([&](int i, int j, int k, int n) {
-        const int node = nodes[n];
-        const double w = st.weight(i, j, k);
-        acc.m[node] += w * m;  // (3.1)
-        acc.mv[node] +=
-            w * m * (p.v[q] + p.C[q] * Eigen::Vector3d(d[0][i], d[1][j], d[2][k]));  // (3.2)
-      });
-    };
-    const long n = p.size();
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, chunks, 1),
-        [&](const tbb::blocked_range<int>& r) {
-          for (int c = r.begin(); c != r.end(); ++c)
-            for (long q = c * n / chunks; q < (c + 1) * n / chunks; ++q)
-              chunk(c, static_cast<int>(q));
-        },
-        tbb::simple_partitioner());
-  }
-  for (const Accumulator& acc : local)
+    const std::vector<Eigen::Vector4d> sum = chunkedSum(
+        p.size(), nn, Eigen::Vector4d::Zero().eval(),
+        [&](std::vector<Eigen::Vector4d>& acc, int begin, int end) {
+          for (int q = begin; q < end; ++q) {
+            const double m = p.mass[q];
+            if (m == 0.0) continue;  // massless particles (the shell's contact particles)
+            const ParticleStencil<D> st(p.x[q], dx);
+            const auto d = st.nodeOffsets(p.x[q], dx);
+            const int* nodes = supports[s].of(q);
+            forSupport<D>([&](int i, int j, int k, int n) {
+              const double w = st.weight(i, j, k);
+              const Eigen::Vector3d v =
+                  p.v[q] + p.C[q] * Eigen::Vector3d(d[0][i], d[1][j], d[2][k]);
+              acc[nodes[n]] += w * m * Eigen::Vector4d(1.0, v.x(), v.y(), v.z());  // (3.1), (3.2)
+            });
+          }
+        });
     for (int i = 0; i < nn; ++i) {
-      grid.mass[i] += acc.m[i];
-      grid.momentum[i] += acc.mv[i];
+      grid.mass[i] += sum[i][0];
+      grid.momentum[i] += sum[i].tail<3>();
     }
+  }
   for (int i = 0; i < nn; ++i)
     grid.velocity[i] = grid.mass[i] > 0.0 ? Eigen::Vector3d(grid.momentum[i] / grid.mass[i])
                                           : Eigen::Vector3d::Zero();
