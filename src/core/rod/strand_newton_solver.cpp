@@ -99,8 +99,8 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
   // near a stable equilibrium), else its Gauss-Newton form (positive: a descent direction). The
   // first iteration, from the step's start far from the solve's end, takes the Gauss-Newton form
   // at once: the true one failed there for 38 % of a head of hair's strand-steps, each failure
-  // costing a second assembly and factorisation (and the worst strand took 12 iterations
-  // instead of 7).
+  // costing a second assembly and factorisation (the worst strand of the head took 13
+  // iterations instead of 6).
   // The gradient of Phi's terms besides the elasticity, at q, and the obstacles' Hessian.
   const auto addLoadGradient = [&](Eigen::VectorXd& grad, SymmetricBandMatrix* h) {
     if (loads.obstacles) loads.obstacles->addDerivatives(q, grad, h);

@@ -100,8 +100,8 @@ class DiscreteElasticRod {
   // bending and twisting keeps B grad(kappa) grad(kappa)^T and drops (kappa - kappa_rest) times
   // the curvature's (and the twist's) own second derivatives, each edge its tension across the
   // edge when compressed. (It replaced zeroing each block's negative eigenvalues, whose 8 x 8
-  // eigensolves were a fifth of a head of hair's frame; the static solves below converge in
-  // 10-20 % fewer iterations with it.)
+  // eigensolves were a fifth of a head of hair's frame; test_rod_elasticity's static solves
+  // take 10-20 % fewer iterations with it.)
   void addElasticDerivatives(Eigen::VectorXd* gradient, SymmetricBandMatrix* hessian,
                              bool gauss_newton) const;
   // The Hessian's half-bandwidth in the unknowns' order: a vertex's bending couples the
