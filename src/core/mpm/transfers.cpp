@@ -61,9 +61,11 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
   grid.clear();
   activateSupports<D>(sets, grid, supports);
   const int nn = grid.size();
-  // Each set's mass and momentum (m, m v) summed in fixed chunks (common/fixed_chunks.h).
+  // Each set's mass and momentum (m, m v) summed in fixed chunks (common/fixed_chunks.h); a set
+  // without mass (the shell's contact particles, an absent solid) adds nothing and is skipped.
   for (std::size_t s = 0; s < sets.size(); ++s) {
     const Particles& p = *sets[s];
+    if (std::none_of(p.mass.begin(), p.mass.end(), [](double m) { return m != 0.0; })) continue;
     const std::vector<Eigen::Vector4d> sum = chunkedSum(
         p.size(), nn, Eigen::Vector4d::Zero().eval(),
         [&](std::vector<Eigen::Vector4d>& acc, int begin, int end) {
