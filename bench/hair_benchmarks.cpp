@@ -72,6 +72,7 @@ void hairFrame(benchmark::State& state) {
   for (int i = 0; i < 30; ++i) world.step(dt);  // the hair falls onto the head
   double t_solve = 0.0, t_to = 0.0, t_grid = 0.0, t_from = 0.0, t_collide = 0.0;
   int frames = 0, newton = 0;
+  double candidates = 0.0, collision_passes = 0.0, zone_passes = 0.0, iterations = 0.0;
   for (auto _ : state) {
     for (int sub = 0; sub < 2; ++sub) {
       // The world's stages for its one body (no contact between fields).
@@ -88,8 +89,13 @@ void hairFrame(benchmark::State& state) {
       hair->transferFromGrid(dt);
       hair->endStep(dt);
       t_from += chs::bench::secondsSince(t);
-      t_collide += hair->lastStrandCollisions().seconds;
+      const chs::rod::StrandCollisionStats& c = hair->lastStrandCollisions();
+      t_collide += c.seconds;
+      candidates += c.candidate_pairs;
+      collision_passes += c.collision_passes;
+      zone_passes += c.zone_passes;
       newton = std::max(newton, hair->lastNewtonIterations());
+      iterations += static_cast<double>(hair->lastTotalNewtonIterations()) / strands;
     }
     ++frames;
   }
@@ -103,6 +109,11 @@ void hairFrame(benchmark::State& state) {
   state.counters["seg_frames_per_core_s"] =
       static_cast<double>(strands) * kSegments * frames / (wall * threads);
   state.counters["max_newton"] = newton;
+  state.counters["newton_per_strand_step"] = iterations / (2 * frames);
+  // Per step: the broad phase's pairs, the collision passes with impulses, the zone passes.
+  state.counters["candidates"] = candidates / (2 * frames);
+  state.counters["collision_passes"] = collision_passes / (2 * frames);
+  state.counters["zone_passes"] = zone_passes / (2 * frames);
 }
 BENCHMARK(hairFrame)
     ->Args({100, 1, 0})

@@ -148,7 +148,9 @@ TEST_F(StateFile, BrokenFilesAreRefusedByName) {
   std::string older = file;
   older[8] = 0;  // the version field
   const std::string version = refusal([&] { decodeStateFile(older, "f"); });
-  EXPECT_NE(version.find("state format version 0, this build reads version 2"), std::string::npos)
+  EXPECT_NE(version.find("state format version 0, this build reads version " +
+                         std::to_string(kStateFormatVersion)),
+            std::string::npos)
       << version;
   const std::string alien = refusal([&] { decodeStateFile("{\"json\": 1}", "f"); });
   EXPECT_NE(alien.find("not a cloth_hair_sim state file"), std::string::npos) << alien;

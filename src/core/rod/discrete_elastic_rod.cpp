@@ -218,9 +218,11 @@ void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
     plus[7] = angleDof(i);
     minus[3] = minus[7] = -1;
     const Vec3 e = x_[i] - x_[p], f = x_[next] - x_[i];
+    // (The Gauss-Newton form needs no second derivatives of the strains.)
+    const bool strain_hessians = want_h && !gauss_newton;
     const CurvatureDerivatives k =
-        curvatureDerivatives(e, f, {m1_[p], m2_[p], m1_[i], m2_[i]}, want_h);
-    const TwistDerivatives tw = twistDerivatives(e, f, k.kb, want_h);
+        curvatureDerivatives(e, f, {m1_[p], m2_[p], m1_[i], m2_[i]}, strain_hessians);
+    const TwistDerivatives tw = twistDerivatives(e, f, k.kb, strain_hessians);
     const double l = voronoi_[i];
     const Eigen::Vector2d dk = k.kappa - rest_kappa_[i];
     const double dm = twist(i) - rest_twist_[i];

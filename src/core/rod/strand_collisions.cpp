@@ -192,10 +192,14 @@ StrandCollisions::StrandCollisions(const StrandCollisionSettings& s) : settings_
 }
 
 // Broad phase: each segment's box over its step (x and x + dt v at both ends), grown by
-// grow / 2, in every cell of a uniform grid it touches; a pair is kept by the cell holding the
-// low corner of the two boxes' overlap.
+// grow / 2. The pairs come from a cell search over the boxes grown further by `slack` (a Verlet
+// list, as molecular dynamics keeps its neighbour lists): while every segment's box stays inside
+// its slack-grown box of the last search, the pairs whose boxes meet are among that search's,
+// and filtering its list gives exactly what a new search would. The proximity and collision
+// passes of a step, which change the velocities by a fraction of the thickness per step, then
+// share one search; hair at rest keeps it over steps.
 void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                                  double grow, double dt) {
+                                  double grow, double dt, double slack) {
   const int n = static_cast<int>(segments_.size());
   std::vector<Eigen::AlignedBox3d> boxes(n);
   tbb::parallel_for(0, n, [&](int k) {
@@ -208,14 +212,34 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
     b.min().array() -= 0.5 * grow;
     b.max().array() += 0.5 * grow;
   });
+  bool inside = searched_segments_ == segments_;
+  for (int k = 0; k < n && inside; ++k) inside = searched_boxes_[k].contains(boxes[k]);
+  if (!inside) search(boxes, slack);
+  pairs_.clear();
+  for (const Pair& p : searched_pairs_)
+    if (boxes[segment_index_[p.a]].intersects(boxes[segment_index_[p.b]])) pairs_.push_back(p);
+}
+
+// All pairs of segments (not sharing a vertex) whose boxes, grown by the slack, meet: each box
+// in every cell of a uniform grid it touches, a pair kept by the cell holding the low corner of
+// the two boxes' overlap.
+void StrandCollisions::search(const std::vector<Eigen::AlignedBox3d>& tight, double slack) {
+  const int n = static_cast<int>(segments_.size());
+  std::vector<Eigen::AlignedBox3d>& boxes = searched_boxes_;
+  boxes = tight;
   double mean = 0.0, largest = 0.0;
   Eigen::AlignedBox3d all;
-  for (const Eigen::AlignedBox3d& b : boxes) {
+  for (Eigen::AlignedBox3d& b : boxes) {
+    b.min().array() -= slack;
+    b.max().array() += slack;
     const double e = b.sizes().maxCoeff();
     mean += e / n;
     largest = std::max(largest, e);
     all.extend(b);
   }
+  searched_segments_ = segments_;
+  segment_index_.assign(segments_.empty() ? 0 : segments_.back() + 1, -1);
+  for (int k = 0; k < n; ++k) segment_index_[segments_[k]] = k;
   // Cells of the mean box's size, numbered from the corner of all boxes with 21 bits per axis
   // (coarser where the boxes span more than 2^21 cells), so that a cell is one 64-bit key: the
   // sort below compares integers, not tuples (a third of the broad phase's time).
@@ -267,9 +291,10 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
                           }
                       }
                     });
-  pairs_.clear();
-  for (const std::vector<Pair>& f : found) pairs_.insert(pairs_.end(), f.begin(), f.end());
-  std::sort(pairs_.begin(), pairs_.end(),
+  searched_pairs_.clear();
+  for (const std::vector<Pair>& f : found)
+    searched_pairs_.insert(searched_pairs_.end(), f.begin(), f.end());
+  std::sort(searched_pairs_.begin(), searched_pairs_.end(),
             [](const Pair& p, const Pair& q) { return p.a < q.a || (p.a == q.a && p.b < q.b); });
 }
 
@@ -395,7 +420,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
   count_.assign(nv, 0);
 
   // Proximity (Bridson 7.1): pairs closer than the thickness at x^n.
-  candidates(x, v, thickness, dt);
+  candidates(x, v, thickness, dt, thickness);
   stats.candidate_pairs = static_cast<int>(pairs_.size());
   const double repulsion = settings_.repulsion;
   for (int pass = 0; pass < settings_.max_iterations; ++pass) {
@@ -446,7 +471,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
       for (int i : im.vertex) dirty_[i] = 1;
   };
   for (int pass = 0; pass < settings_.max_iterations; ++pass) {
-    candidates(x, v, margin, dt);
+    candidates(x, v, margin, dt, thickness);
     std::vector<Impulse> impulses = collisionImpulses(x, v, inverse_mass, thickness, dt);
     if (impulses.empty()) return stats;
     ++stats.collision_passes;
@@ -463,7 +488,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
     return i;
   };
   for (;;) {
-    candidates(x, v, margin, dt);
+    candidates(x, v, margin, dt, thickness);
     // A pair inside one zone moves affinely and does not cross (it may stay within the margin).
     // One left inside a zone with clamps moving apart is not resolved.
     bool outside = false, stuck = false;

@@ -7,7 +7,7 @@ namespace chs {
 // Version of the saved-simulation format (the records of io/state_stream.h a backend or the ROS
 // node writes): raised whenever they change, so a file of an older build is refused by name
 // instead of being misread.
-constexpr std::uint32_t kStateFormatVersion = 2;  // 2: hair
+constexpr std::uint32_t kStateFormatVersion = 3;  // 2: hair; 3: its accelerations
 
 // A state file: the magic bytes "CHSSTATE", the format version (u32), the payload's length
 // (u64) and its CRC-32 (u32), little-endian, then the payload.

@@ -185,6 +185,8 @@ class HairDynamics : public Body {
   double time() const { return time_; }
   // Newton iterations of the slowest strand in the last step (over its lag passes).
   int lastNewtonIterations() const { return last_iterations_; }
+  // The Newton iterations of all strands in the last step.
+  long lastTotalNewtonIterations() const { return last_total_iterations_; }
   // The strand-strand collision stage of the last step (zero when disabled).
   const StrandCollisionStats& lastStrandCollisions() const { return last_collisions_; }
   const StrandContinuumStats& lastContinuum() const { return last_continuum_; }
@@ -229,7 +231,10 @@ class HairDynamics : public Body {
     explicit Strand(DiscreteElasticRod r) : rod(std::move(r)) {}
     DiscreteElasticRod rod;
     std::vector<Eigen::Vector3d> v;  // vertex velocities
-    std::vector<double> omega;       // edge angle rates
+    // The vertices' change of velocity over the last step / its dt: the implicit solve starts
+    // from x + dt v + dt^2 a (solveStrandStep).
+    std::vector<Eigen::Vector3d> accel;
+    std::vector<double> omega;  // edge angle rates
     std::vector<Eigen::Vector3d> force;
     bool clamped = true;
     // The clamp in the frame it was added in: x_0, x_1 and the first material director.
@@ -284,6 +289,7 @@ class HairDynamics : public Body {
   std::vector<int> strand_offsets_;  // each strand's first particle, then the count
   bool converged_ = true;
   int last_iterations_ = 0;
+  long last_total_iterations_ = 0;
   double time_ = 0.0;
 };
 

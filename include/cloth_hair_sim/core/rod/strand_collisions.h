@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace chs::rod {
 
@@ -121,8 +122,12 @@ class StrandCollisions {
     double target = 0.0;      // wanted normal relative velocity (b's from a's) [m/s]
     double min_change = 0.0;  // change of it at least (a collision's push)
   };
+  // Fills pairs_ with the segment pairs whose boxes over the step (grown by grow / 2) meet,
+  // searching anew (with the boxes grown by slack more) only when a box has left its last one.
   void candidates(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
-                  double grow, double dt);
+                  double grow, double dt, double slack);
+  // A new cell search over the boxes grown by slack (searched_*).
+  void search(const std::vector<Eigen::AlignedBox3d>& boxes, double slack);
   // Applies the impulses, with Coulomb friction: Jacobi-wise (each from the same velocities,
   // divided by its vertices' largest count) or Gauss-Seidel (in turn, each from the velocities
   // its predecessors left).
@@ -134,8 +139,14 @@ class StrandCollisions {
                                          double dt) const;
 
   StrandCollisionSettings settings_;
-  std::vector<int> segments_;   // first vertex of each segment
-  std::vector<Pair> pairs_;     // the current broad phase's candidates
+  std::vector<int> segments_;  // first vertex of each segment
+  std::vector<Pair> pairs_;    // the current broad phase's candidates
+  // The last cell search: its segments, their boxes with the slack, the pairs those meet in,
+  // and each segment's index by its first vertex.
+  std::vector<int> searched_segments_;
+  std::vector<Eigen::AlignedBox3d> searched_boxes_;
+  std::vector<Pair> searched_pairs_;
+  std::vector<int> segment_index_;
   std::vector<int> count_;      // impulses per vertex in a pass
   std::vector<int> strand_of_;  // each vertex's strand
   std::vector<char> dirty_;     // vertices whose velocity the last pass changed
