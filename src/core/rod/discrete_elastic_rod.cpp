@@ -119,9 +119,12 @@ void DiscreteElasticRod::updateFrames() {
     const int p = previousEdge(i);
     if (1.0 + t_[p].dot(t_[i]) < kMinChi) admissible_ = false;
     // Bergou 2010 section 4.2: the reference twist changes by the angle between d1_i and
-    // d1_{i-1} transported to t_i and turned by the old reference twist.
-    const Vec3 u = rotateAbout(parallelTransport(d1_[p], t_[p], t_[i]), t_[i], base_ref_twist_[i]);
-    ref_twist_[i] = base_ref_twist_[i] + signedAngle(u, d1_[i], t_[i]);
+    // d1_{i-1} transported to t_i and turned by the old reference twist, that is by the angle
+    // from the transported d1_{i-1} to d1_i less the old twist, wrapped into [-pi, pi] (no
+    // rotation of the transported director needed).
+    const double turn =
+        signedAngle(parallelTransport(d1_[p], t_[p], t_[i]), d1_[i], t_[i]) - base_ref_twist_[i];
+    ref_twist_[i] = base_ref_twist_[i] + turn - 2.0 * M_PI * std::round(turn / (2.0 * M_PI));
   }
 }
 
@@ -218,10 +221,10 @@ void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
     plus[7] = angleDof(i);
     minus[3] = minus[7] = -1;
     const Vec3 e = x_[i] - x_[p], f = x_[next] - x_[i];
+    const EdgePairFrames frames{m1_[p], m2_[p], m1_[i], m2_[i]};
+    const CurvatureDerivatives k = curvatureDerivatives(e, f, frames);
     // (The Gauss-Newton form needs no second derivatives of the strains.)
     const bool strain_hessians = want_h && !gauss_newton;
-    const CurvatureDerivatives k =
-        curvatureDerivatives(e, f, {m1_[p], m2_[p], m1_[i], m2_[i]}, strain_hessians);
     const TwistDerivatives tw = twistDerivatives(e, f, k.kb, strain_hessians);
     const double l = voronoi_[i];
     const Eigen::Vector2d dk = k.kappa - rest_kappa_[i];
@@ -240,8 +243,9 @@ void DiscreteElasticRod::addElasticDerivatives(Eigen::VectorXd* gradient,
     Matrix8d h = b1 * k.gradient[0] * k.gradient[0].transpose() +
                  b2 * k.gradient[1] * k.gradient[1].transpose() +
                  gj * tw.gradient * tw.gradient.transpose();
-    if (!gauss_newton)
-      h += b1 * dk[0] * k.hessian[0] + b2 * dk[1] * k.hessian[1] + gj * dm * tw.hessian;
+    if (strain_hessians)
+      h += curvatureHessian(e, f, frames, Eigen::Vector2d(b1 * dk[0], b2 * dk[1])) +
+           gj * dm * tw.hessian;
     if (next == i + 1 && p == i - 1) {
       // The 11 unknowns are contiguous: H = J^T h J as a dense block, first T = h J (J's
       // columns: x_{i-1} -e, theta_{i-1}, x_i e - f, theta_i, x_{i+1} f), then J^T T.
