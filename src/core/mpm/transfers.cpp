@@ -93,7 +93,7 @@ void particleToGridImpl(const std::vector<const Particles*>& sets, SparseGrid& g
                                           : Eigen::Vector3d::Zero();
 }
 
-template <int D>
+template <int D, bool kDeform>
 void gridToParticleImpl(const SparseGrid& grid, Particles& p, double nu, double dt,
                         const SupportNodes* support) {
   const double dx = grid.spacing(), d_inv = ParticleStencil<D>::inverseInertia(dx);
@@ -108,15 +108,15 @@ void gridToParticleImpl(const SparseGrid& grid, Particles& p, double nu, double 
       if (node < 0) return;  // outside the transferred region: zero velocity
       const double w = s.weight(i, j, k);
       const Eigen::Vector3d& vi = grid.velocity[node];
-      v += w * vi;                                                  // (3.13)
-      B += w * vi * Eigen::RowVector3d(d[0][i], d[1][j], d[2][k]);  // (3.14)
-      gradv += vi * s.gradient(i, j, k).transpose();                // (3.17)
+      v += w * vi;                                                           // (3.13)
+      B += w * vi * Eigen::RowVector3d(d[0][i], d[1][j], d[2][k]);           // (3.14)
+      if constexpr (kDeform) gradv += vi * s.gradient(i, j, k).transpose();  // (3.17)
     });
     const Eigen::Matrix3d Ct = d_inv * B;
     p.C[q] = (1.0 - nu) * Ct + 0.5 * nu * (Ct - Ct.transpose());  // (3.15)
     p.v[q] = v;
-    p.F[q] = (Eigen::Matrix3d::Identity() + dt * gradv) * p.F[q];  // (3.17)
-    p.x[q] += dt * v;                                              // (3.16)
+    if constexpr (kDeform) p.F[q] = (Eigen::Matrix3d::Identity() + dt * gradv) * p.F[q];  // (3.17)
+    p.x[q] += dt * v;                                                                     // (3.16)
   });
 }
 
@@ -151,15 +151,19 @@ void updateGridVelocity(SparseGrid& grid, const Eigen::Vector3d& gravity, double
 }
 
 void gridToParticle(const SparseGrid& grid, Particles& particles, int degree, double rpic_damping,
-                    double dt, const SupportNodes* support) {
+                    double dt, const SupportNodes* support, bool deformation_gradients) {
   checkDegree(degree);
   if (!(rpic_damping >= 0.0 && rpic_damping <= 1.0))
     throw InputError("RPIC damping must lie in [0, 1]");
   if (support) support->check(particles.size(), degree);
-  if (degree == 2)
-    gridToParticleImpl<2>(grid, particles, rpic_damping, dt, support);
+  if (degree == 2 && deformation_gradients)
+    gridToParticleImpl<2, true>(grid, particles, rpic_damping, dt, support);
+  else if (degree == 2)
+    gridToParticleImpl<2, false>(grid, particles, rpic_damping, dt, support);
+  else if (deformation_gradients)
+    gridToParticleImpl<3, true>(grid, particles, rpic_damping, dt, support);
   else
-    gridToParticleImpl<3>(grid, particles, rpic_damping, dt, support);
+    gridToParticleImpl<3, false>(grid, particles, rpic_damping, dt, support);
 }
 
 double cflTimeStep(const Particles& particles, double dx, double cfl, double dt_max) {

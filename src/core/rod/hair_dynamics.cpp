@@ -510,14 +510,18 @@ void HairDynamics::transferFromGrid(double dt) {
   scratch_ = particles_;
   if (bulk_) scratch_.F = bulk_scratch_.F;  // F^E before the last substep (updateGrid)
   mpm::gridToParticle(grid_, scratch_, settings_.kernel_degree, 0.0, bulk_ ? bulk_substep_ : dt,
-                      &supports_[0]);
+                      &supports_[0], bulk_.has_value());
   const double xi = settings_.pic_blend;
   x_start_ = particles_.x;
   if (bulk_) {
     returnToCone(scratch_.F, true);
     particles_.F = scratch_.F;
   }
-  for (Strand& s : strands_) {
+  // Strands in parallel; each keeps its vertices' impulses on the colliders, summed after in
+  // strand order (the same sum on any thread count).
+  strand_grid_impulse_.assign(strands_.size(), std::vector<mpm::ColliderImpulse>(surfaces_.size()));
+  tbb::parallel_for(0, numStrands(), [&](int k) {
+    Strand& s = strands_[k];
     DiscreteElasticRod& rod = s.rod;
     for (int i = 0; i < rod.numVertices(); ++i) {
       const int p = s.offset + i;
@@ -554,7 +558,7 @@ void HairDynamics::transferFromGrid(double dt) {
           if (v_rel.dot(pr.normal) < 0.0) {
             const Vec3 before = v;
             v = vc + mpm::collideRelativeVelocity(v_rel, pr.normal, gc.boundary, gc.friction);
-            collider_impulse_[c].add(x, rod.vertexMass(i) * (v - before));
+            strand_grid_impulse_[k][c].add(x, rod.vertexMass(i) * (v - before));
             particles_.C[p].setZero();
             x = x_start + dt * v;
           }
@@ -565,7 +569,12 @@ void HairDynamics::transferFromGrid(double dt) {
       particles_.v[p] = v;
       particles_.x[p] = x;
     }
-  }
+  });
+  for (const std::vector<mpm::ColliderImpulse>& impulses : strand_grid_impulse_)
+    for (std::size_t c = 0; c < impulses.size(); ++c) {
+      collider_impulse_[c].linear += impulses[c].linear;
+      collider_impulse_[c].angular += impulses[c].angular;
+    }
   last_collisions_ = StrandCollisionStats();
   if (settings_.strand_collisions.enabled && !strands_.empty()) {
     // Han (4.13): the geometric impulses between strands on these velocities, clamped and
@@ -578,17 +587,18 @@ void HairDynamics::transferFromGrid(double dt) {
     v_free_ = particles_.v;
     last_collisions_ = collisions_.apply(x_start_, particles_.v, inverse_mass_, strand_offsets_,
                                          strandThickness(), dt);
-    for (int p = 0; p < particles_.size(); ++p) {
-      if (particles_.v[p] == v_free_[p]) continue;
+    tbb::parallel_for(0, particles_.size(), [&](int p) {
+      if (particles_.v[p] == v_free_[p]) return;
       Vec3 x = x_start_[p] + dt * particles_.v[p];
       for (const auto& surface : surfaces_) {
         const SurfaceProjection pr = surface->project(x);
         if (pr.gap < 0.0) x -= pr.gap * pr.normal;
       }
       particles_.x[p] = x;
-    }
+    });
   }
-  for (Strand& s : strands_) {
+  tbb::parallel_for(0, numStrands(), [&](int k) {
+    Strand& s = strands_[k];
     DiscreteElasticRod& rod = s.rod;
     Eigen::VectorXd q = rod.configuration();  // the solved angles
     for (int i = 0; i < rod.numVertices(); ++i) {
@@ -598,7 +608,7 @@ void HairDynamics::transferFromGrid(double dt) {
     }
     rod.setConfiguration(q);
     rod.commit();
-  }
+  });
 }
 
 // The trial F^E of every vertex returned to the Drucker-Prager cone in place; held vertices

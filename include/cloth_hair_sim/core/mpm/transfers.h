@@ -30,8 +30,11 @@ void updateGridVelocity(SparseGrid& grid, const Eigen::Vector3d& gravity, double
 // [0, 1] (3.15), then positions (3.16) and deformation gradients (3.17).
 // With `support` (recorded by particleToGrid at the particles' current positions) the nodes are
 // indexed directly; without, they are looked up and nodes that are not active count as at rest.
+// Without deformation_gradients F is left as it is (for particles that carry none: the velocity
+// gradient is a third of the transfer's work).
 void gridToParticle(const SparseGrid& grid, Particles& particles, int degree, double rpic_damping,
-                    double dt, const SupportNodes* support = nullptr);
+                    double dt, const SupportNodes* support = nullptr,
+                    bool deformation_gradients = true);
 
 // CFL-limited time step: no particle crosses more than `cfl` cells, and at most dt_max.
 double cflTimeStep(const Particles& particles, double dx, double cfl, double dt_max);

@@ -271,6 +271,7 @@ class HairDynamics : public Body {
   std::vector<mpm::GridCollider> colliders_;
   std::vector<StrandObstacle> obstacles_;  // the same, for the strands' implicit solves
   std::vector<mpm::ColliderImpulse> collider_impulse_;
+  std::vector<std::vector<mpm::ColliderImpulse>> strand_grid_impulse_;  // per strand, per collider
   std::map<int, Grip> grips_;
   int next_grip_ = 0;
   StrandCollisions collisions_;
