@@ -240,11 +240,16 @@ void StrandCollisions::search(const std::vector<Eigen::AlignedBox3d>& tight, dou
   searched_segments_ = segments_;
   segment_index_.assign(segments_.empty() ? 0 : segments_.back() + 1, -1);
   for (int k = 0; k < n; ++k) segment_index_[segments_[k]] = k;
-  // Cells of the mean box's size, numbered from the corner of all boxes with 21 bits per axis
-  // (coarser where the boxes span more than 2^21 cells), so that a cell is one 64-bit key: the
-  // sort below compares integers, not tuples (a third of the broad phase's time).
+  // Cells of twice the mean box's size: a box lies in 3-4 cells instead of the 8 of cells of
+  // its own size, fewer entries to sort for more pairs to test per cell (1000 strands of hair:
+  // the stage took 28 ms per frame on one thread with cells of the mean size, 18 with twice,
+  // 18 with three times; on two threads 9 with twice, 12 with three times). They are numbered
+  // from the corner of all boxes with 21 bits per axis (coarser where the boxes span more than
+  // 2^21 cells), so that a cell is one 64-bit key: the sort below compares integers, not tuples
+  // (a third of the broad phase's time).
   constexpr double kCellsPerAxis = double(1 << 21) - 2.0;
-  const double h = std::max({mean, largest / 16.0, all.sizes().maxCoeff() / kCellsPerAxis, 1e-300});
+  const double h =
+      std::max({2.0 * mean, largest / 16.0, all.sizes().maxCoeff() / kCellsPerAxis, 1e-300});
   const Vec3 origin = all.min();
   auto cell = [&](const Vec3& p) {
     const Eigen::Array3d c = ((p - origin) / h).array().floor().max(0.0).min(kCellsPerAxis);
