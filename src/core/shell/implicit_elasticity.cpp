@@ -8,14 +8,13 @@
 #include <string>
 #include <utility>
 
-#include <dlfcn.h>
-
 #include <Eigen/CholmodSupport>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "cloth_hair_sim/core/common/blas_threads.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 
@@ -23,27 +22,6 @@ namespace chs {
 
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
-
-namespace {
-
-// CHOLMOD's supernodal factorisation runs on the BLAS. Debian's OpenBLAS (pthread build) starts
-// its own threads, which spin in sched_yield against TBB's while the shell's fibre loops run, so
-// OpenBLAS is held to one thread (looked up at run time: any other BLAS has no such call and is
-// left alone), and given the task arena's threads only for the factorisation itself, when TBB's
-// are idle: the towel's 2028 unknowns then factorise in 15 ms instead of 22-26 on two cores
-// (one core alone: 17 ms, the other core's idle TBB workers slowing the single BLAS thread).
-void setBlasThreads(int threads) {
-  static const auto set =
-      reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  if (set) set(threads);
-}
-
-void singleThreadedBlas() {
-  static std::once_flag once;
-  std::call_once(once, [] { setBlasThreads(1); });
-}
-
-}  // namespace
 
 struct ImplicitElasticity::Factor {
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
@@ -57,7 +35,7 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
       links_(std::move(links)),
       fibres_(fibreRanges(points)),
       factor_(std::make_unique<Factor>()) {
-  singleThreadedBlas();
+  holdBlasToOneThread();
   if (static_cast<int>(links_.owner.size()) != n_ || static_cast<int>(links_.map.size()) != n_)
     throw InputError("implicit elasticity: links for " + std::to_string(links_.owner.size()) +
                      " points, the shell has " + std::to_string(n_));
@@ -193,9 +171,13 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
     factor_->llt.analyzePattern(matrix_);
     factor_->analyzed = true;
   }
-  setBlasThreads(tbb::this_task_arena::max_concurrency());
-  factor_->llt.factorize(matrix_);
-  setBlasThreads(1);
+  {
+    // The arena's threads for the factorisation alone, when TBB's are idle: the towel's 2028
+    // unknowns then factorise in 15 ms instead of 22-26 on two cores (one core alone: 17 ms, the
+    // other core's idle TBB workers slowing the single BLAS thread).
+    const ScopedBlasThreads blas(tbb::this_task_arena::max_concurrency());
+    factor_->llt.factorize(matrix_);
+  }
   factored_ = factor_->llt.info() == Eigen::Success;
   result.factorization_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - assembled).count();

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -98,6 +99,8 @@ class World {
     std::string name;
     std::shared_ptr<Body> body;
   };
+  // Runs a stage of every body, side by side when there are several.
+  void forEachBody(const std::function<void(Entry&)>& stage);
   WorldSettings settings_;
   double spacing_ = 0.0;
   std::vector<Entry> bodies_;

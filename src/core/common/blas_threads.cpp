@@ -1,0 +1,46 @@
+#include "cloth_hair_sim/core/common/blas_threads.h"
+
+#include <atomic>
+#include <mutex>
+
+#include <dlfcn.h>
+
+namespace chs {
+namespace {
+
+std::atomic<int> concurrent_callers{0};
+
+void setBlasThreads(int threads) {
+  static const auto set =
+      reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (set) set(threads);
+}
+
+}  // namespace
+
+void holdBlasToOneThread() {
+  static std::once_flag once;
+  std::call_once(once, [] { setBlasThreads(1); });
+}
+
+ScopedBlasThreads::ScopedBlasThreads(int threads) {
+  holdBlasToOneThread();
+  if (threads <= 1 || concurrent_callers.load() > 0) return;
+  setBlasThreads(threads);
+  changed_ = true;
+}
+
+ScopedBlasThreads::~ScopedBlasThreads() {
+  if (changed_) setBlasThreads(1);
+}
+
+ConcurrentBlasCallers::ConcurrentBlasCallers() {
+  holdBlasToOneThread();
+  ++concurrent_callers;
+}
+
+ConcurrentBlasCallers::~ConcurrentBlasCallers() {
+  --concurrent_callers;
+}
+
+}  // namespace chs
