@@ -10,8 +10,10 @@ namespace {
 
 constexpr double kNodeXi[4] = {-1, 1, 1, -1}, kNodeEta[4] = {-1, -1, 1, 1};
 
+// Shape functions and their derivatives in the element's natural coordinates (xi, eta) or
+// (s, t); a triangle leaves the fourth entries zero.
 struct Shape {
-  double N[4], dxi[4], deta[4];
+  double N[4] = {0, 0, 0, 0}, dxi[4] = {0, 0, 0, 0}, deta[4] = {0, 0, 0, 0};
 };
 
 Shape shape(double xi, double eta) {
@@ -44,8 +46,18 @@ struct NaturalForms {
   Form m[3], b[3], s[2];
 };
 
-NaturalForms naturalForms(double xi, double eta) {
-  const Shape sh = shape(xi, eta);
+// Triangle of eq. (10): N_1 = r = 1 - s - t, N_2 = s, N_3 = t.
+Shape triangleShape(double s, double t) {
+  Shape sh;
+  sh.N[0] = 1 - s - t;
+  sh.N[1] = s;
+  sh.N[2] = t;
+  sh.dxi[0] = -1, sh.dxi[1] = 1;
+  sh.deta[0] = -1, sh.deta[2] = 1;
+  return sh;
+}
+
+NaturalForms naturalForms(const Shape& sh) {
   NaturalForms f;
   for (auto* group : {f.m, f.b}) group[0].setZero(), group[1].setZero(), group[2].setZero();
   f.s[0].setZero();
@@ -67,6 +79,62 @@ NaturalForms naturalForms(double xi, double eta) {
       add(f.s[1], dir(i), pos(j), sh.N[i] * sh.deta[j]);
     }
   return f;
+}
+
+NaturalForms naturalForms(double xi, double eta) {
+  return naturalForms(shape(xi, eta));
+}
+
+// Eq. (12): the natural transverse shear along the edge from node a to node b at its midpoint,
+// x_n (a + b) / 2 . (x_o,b - x_o,a), as a form.
+Form edgeShear(int a, int b) {
+  Form f = Form::Zero();
+  for (int n : {a, b}) {
+    add(f, dir(n), pos(b), 0.25);
+    add(f, dir(n), pos(a), -0.25);
+  }
+  return f;
+}
+
+// The element's material frame at a mid-surface point with tangents G1, G2 (e_z their normal,
+// e_x the material axis projected onto the surface) and what maps natural strains to it.
+struct LocalFrame {
+  Eigen::Vector3d ex, ey, ez;
+  Eigen::Matrix2d A;  // A(i, a) = d xi_i / d x_a
+  Eigen::Matrix3d T;  // covariant natural strains to Cartesian Voigt (xx, yy, 2xy): eq. (6)
+  bool valid = false;
+};
+
+LocalFrame localFrame(const Eigen::Vector3d& G1, const Eigen::Vector3d& G2,
+                      const Eigen::Vector3d& material_x) {
+  LocalFrame f;
+  f.ez = G1.cross(G2).normalized();
+  f.ex = material_x - material_x.dot(f.ez) * f.ez;
+  if (!(G1.cross(G2).norm() > 0.0) || !(f.ex.norm() > 1e-6 * material_x.norm())) return f;
+  f.ex.normalize();
+  f.ey = f.ez.cross(f.ex);
+  Eigen::Matrix2d J;  // J(i, a) = G_i . e_a
+  J << G1.dot(f.ex), G1.dot(f.ey), G2.dot(f.ex), G2.dot(f.ey);
+  f.A = J.inverse().transpose();
+  const Eigen::Matrix2d& A = f.A;
+  f.T << A(0, 0) * A(0, 0), A(1, 0) * A(1, 0), A(0, 0) * A(1, 0),  //
+      A(0, 1) * A(0, 1), A(1, 1) * A(1, 1), A(0, 1) * A(1, 1),     //
+      2 * A(0, 0) * A(0, 1), 2 * A(1, 0) * A(1, 1), A(0, 0) * A(1, 1) + A(1, 0) * A(0, 1);
+  f.valid = true;
+  return f;
+}
+
+// Membrane and bending strains of eq. (6) in the local frame, then the two transverse shears.
+std::array<Form, 8> cartesianStrains(const Eigen::Matrix3d& T, const NaturalForms& nat,
+                                     const std::array<Form, 2>& shear) {
+  std::array<Form, 8> e;
+  for (int k = 0; k < 3; ++k) {
+    e[k] = T(k, 0) * nat.m[0] + T(k, 1) * nat.m[1] + T(k, 2) * nat.m[2];
+    e[3 + k] = T(k, 0) * nat.b[0] + T(k, 1) * nat.b[1] + T(k, 2) * nat.b[2];
+  }
+  e[6] = shear[0];
+  e[7] = shear[1];
+  return e;
 }
 
 }  // namespace
@@ -94,39 +162,87 @@ SolidShellElement::SolidShellElement(const std::array<int, 4>& nodes,
       G2 += sh.deta[i] * X[i];
       Gn += sh.N[i] * Xn[i];
     }
-    GaussPoint& gp = gauss_[q];
-    gp.weight = G1.cross(G2).dot(Gn);  // J_o of eq. (8), Gauss weights 1
-    const Eigen::Vector3d ez = G1.cross(G2).normalized();
-    Eigen::Vector3d ex = material_x - material_x.dot(ez) * ez;
-    if (!(gp.weight > 0.0) || !(ex.norm() > 1e-6 * material_x.norm())) {
-      valid_ = false;
-      return;
-    }
-    ex.normalize();
-    const Eigen::Vector3d ey = ez.cross(ex);
-    Eigen::Matrix2d J;  // J(i, a) = G_i . e_a
-    J << G1.dot(ex), G1.dot(ey), G2.dot(ex), G2.dot(ey);
-    const Eigen::Matrix2d A = J.inverse().transpose();  // A(i, a) = d xi_i / d x_a
-    // Covariant natural strains to Cartesian Voigt strains (xx, yy, 2xy): the T of eq. (6).
-    Eigen::Matrix3d T;
-    T << A(0, 0) * A(0, 0), A(1, 0) * A(1, 0), A(0, 0) * A(1, 0),  //
-        A(0, 1) * A(0, 1), A(1, 1) * A(1, 1), A(0, 1) * A(1, 1),   //
-        2 * A(0, 0) * A(0, 1), 2 * A(1, 0) * A(1, 1), A(0, 0) * A(1, 1) + A(1, 0) * A(0, 1);
-    const NaturalForms nat = naturalForms(xi, eta);
+    const LocalFrame lf = localFrame(G1, G2, material_x);
     // ANS transverse shear (4), then to Cartesian with T_t = A^T.
     const Form zxi = 0.5 * (1 - eta) * sA.s[0] + 0.5 * (1 + eta) * sC.s[0];
     const Form zeta = 0.5 * (1 - xi) * sD.s[1] + 0.5 * (1 + xi) * sB.s[1];
-    for (int k = 0; k < 3; ++k) {
-      gp.strain[k] = T(k, 0) * nat.m[0] + T(k, 1) * nat.m[1] + T(k, 2) * nat.m[2];
-      gp.strain[3 + k] = T(k, 0) * nat.b[0] + T(k, 1) * nat.b[1] + T(k, 2) * nat.b[2];
-    }
-    for (int a = 0; a < 2; ++a) gp.strain[6 + a] = A(0, a) * zxi + A(1, a) * zeta;
-    for (int k = 0; k < 8; ++k) gp.reference[k] = gp.strain[k] * V;
-    for (int i = 0; i < 4; ++i) {
-      gp.N[i] = sh.N[i];
-      nodal_area_[i] += sh.N[i] * G1.cross(G2).norm();
+    std::array<Form, 2> shear;
+    for (int a = 0; a < 2; ++a) shear[a] = lf.A(0, a) * zxi + lf.A(1, a) * zeta;
+    if (!lf.valid || !setGaussPoint(gauss_[q], sh.N, G1, G2, Gn, 1.0,
+                                    cartesianStrains(lf.T, naturalForms(sh), shear))) {
+      valid_ = false;
+      return;
     }
   }
+}
+
+// Seed 001 eqs. (10)-(15): the 3-node triangle, three-point rule at (s, t) = (1/6, 1/6),
+// (2/3, 1/6), (1/6, 2/3) with weights 1/6.
+SolidShellElement::SolidShellElement(const std::array<int, 3>& nodes,
+                                     const std::array<Eigen::Vector3d, 3>& X,
+                                     const std::array<Eigen::Vector3d, 3>& Xn,
+                                     const Eigen::Vector3d& material_x,
+                                     const SolidShellRigidity& rigidity,
+                                     ThicknessStrain thickness_strain, double mu)
+    : nodes_({nodes[0], nodes[1], nodes[2], -1}),
+      Xn_({Xn[0], Xn[1], Xn[2], Eigen::Vector3d::Zero()}),
+      C_(rigidity),
+      thickness_strain_(thickness_strain),
+      mu_(mu),
+      corners_(3),
+      num_gauss_(3) {
+  Eigen::Matrix<double, 8, 3>& V = reference_;
+  V.setZero();
+  for (int i = 0; i < 3; ++i) V.row(pos(i)) = X[i], V.row(dir(i)) = Xn[i];
+  // Reference edge vectors d_r X_o = X_1 - X_3, d_s X_o = X_2 - X_1, d_t X_o = X_3 - X_2 (the
+  // differentiation operators of eq. (12)) and the natural shears along them at the edges'
+  // midpoints.
+  const std::array<Eigen::Vector3d, 3> edge = {X[0] - X[2], X[1] - X[0], X[2] - X[1]};
+  const std::array<Form, 3> natural = {edgeShear(2, 0), edgeShear(0, 1), edgeShear(1, 2)};
+  const Eigen::Vector3d G1 = X[1] - X[0], G2 = X[2] - X[0];  // x_o,s and x_o,t
+  const LocalFrame lf = localFrame(G1, G2, material_x);
+  if (!lf.valid) {
+    valid_ = false;
+    return;
+  }
+  // Eq. (13): each node's Cartesian shear from the two edges meeting there (r, s at node 1; s, t
+  // at node 2; t, r at node 3), as forms.
+  std::array<std::array<Form, 2>, 3> nodal;
+  for (int i = 0; i < 3; ++i) {
+    const int e1 = i, e2 = (i + 1) % 3;
+    Eigen::Matrix2d M;
+    M << edge[e1].dot(lf.ex), edge[e1].dot(lf.ey), edge[e2].dot(lf.ex), edge[e2].dot(lf.ey);
+    const Eigen::Matrix2d Minv = M.inverse();
+    for (int a = 0; a < 2; ++a) nodal[i][a] = Minv(a, 0) * natural[e1] + Minv(a, 1) * natural[e2];
+  }
+  const double points[3][2] = {{1.0 / 6, 1.0 / 6}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}};
+  for (int q = 0; q < 3; ++q) {
+    const Shape sh = triangleShape(points[q][0], points[q][1]);
+    Eigen::Vector3d Gn = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 3; ++i) Gn += sh.N[i] * Xn[i];
+    std::array<Form, 2> shear;  // eq. (14)
+    for (int a = 0; a < 2; ++a)
+      shear[a] = sh.N[0] * nodal[0][a] + sh.N[1] * nodal[1][a] + sh.N[2] * nodal[2][a];
+    if (!setGaussPoint(gauss_[q], sh.N, G1, G2, Gn, 1.0 / 6,
+                       cartesianStrains(lf.T, naturalForms(sh), shear))) {
+      valid_ = false;
+      return;
+    }
+  }
+}
+
+bool SolidShellElement::setGaussPoint(GaussPoint& gp, const double N[4], const Eigen::Vector3d& G1,
+                                      const Eigen::Vector3d& G2, const Eigen::Vector3d& Gn,
+                                      double rule_weight, const std::array<Form, 8>& strains) {
+  gp.weight = rule_weight * G1.cross(G2).dot(Gn);  // J_o of eq. (8) times the rule's weight
+  if (!(gp.weight > 0.0)) return false;
+  gp.strain = strains;
+  for (int k = 0; k < 8; ++k) gp.reference[k] = gp.strain[k] * reference_;
+  for (int i = 0; i < 4; ++i) {
+    gp.N[i] = N[i];
+    nodal_area_[i] += rule_weight * N[i] * G1.cross(G2).norm();
+  }
+  return true;
 }
 
 Eigen::Vector3d SolidShellElement::edge(const SolidShellState& s, int p, int q) const {
@@ -144,7 +260,7 @@ double SolidShellElement::thicknessStrain(const SolidShellState& s, int p, Eigen
   }
   // Eq. (24): the upward normal of the deformed mid-surface at node p from its two neighbours
   // (taken counter-clockwise, so that it agrees with the reference director).
-  const int q = (p + 1) % 4, r = (p + 3) % 4;
+  const int q = (p + 1) % corners_, r = (p + corners_ - 1) % corners_;
   const Eigen::Vector3d n = edge(s, p, q).cross(edge(s, p, r));
   const double len = xn.norm();
   const Eigen::Vector3d d = xn / len;
@@ -163,7 +279,7 @@ double SolidShellElement::evaluate(const SolidShellState& state, SolidShellVecto
   double ez[4];
   Eigen::Vector3d dez[4];
   Eigen::Matrix3d hez[4];
-  for (int p = 0; p < 4; ++p) ez[p] = thicknessStrain(state, p, dez[p], hez[p]);
+  for (int p = 0; p < corners_; ++p) ez[p] = thicknessStrain(state, p, dez[p], hez[p]);
 
   double energy = 0.0;
   if (force) force->setZero();
@@ -173,7 +289,8 @@ double SolidShellElement::evaluate(const SolidShellState& state, SolidShellVecto
   C.block<3, 3>(3, 3) = C_.bending;
   C.block<2, 2>(6, 6) = C_.shear;
   C(8, 8) = C_.thickness;
-  for (const GaussPoint& gp : gauss_) {
+  for (int g = 0; g < num_gauss_; ++g) {
+    const GaussPoint& gp = gauss_[g];
     Eigen::Matrix<double, 9, 1> e;
     Eigen::Matrix<double, 9, 24> B;  // dE / dd
     for (int k = 0; k < 8; ++k) {
@@ -184,7 +301,7 @@ double SolidShellElement::evaluate(const SolidShellState& state, SolidShellVecto
     }
     e[8] = 0.0;
     B.row(8).setZero();
-    for (int p = 0; p < 4; ++p) {
+    for (int p = 0; p < corners_; ++p) {
       e[8] += gp.N[p] * ez[p];
       B.block<1, 3>(8, 3 * dir(p)) = gp.N[p] * dez[p].transpose();
     }
@@ -199,7 +316,7 @@ double SolidShellElement::evaluate(const SolidShellState& state, SolidShellVecto
       for (int b = 0; b < 8; ++b)
         if (geo(a, b) != 0.0)
           tangent->block<3, 3>(3 * a, 3 * b).diagonal().array() += gp.weight * geo(a, b);
-    for (int p = 0; p < 4; ++p)
+    for (int p = 0; p < corners_; ++p)
       tangent->block<3, 3>(3 * dir(p), 3 * dir(p)) += gp.weight * sigma[8] * gp.N[p] * hez[p];
   }
   return energy;
@@ -209,19 +326,20 @@ double SolidShellElement::bendingStrainNorm(const SolidShellState& state) const 
   Eigen::Matrix<double, 8, 3> U;
   for (int a = 0; a < 8; ++a) U.row(a) = state[a].transpose();
   double sum = 0.0;
-  for (const GaussPoint& gp : gauss_) {
+  for (int g = 0; g < num_gauss_; ++g) {
+    const GaussPoint& gp = gauss_[g];
     Eigen::Vector3d kappa;
     for (int k = 0; k < 3; ++k)
       kappa[k] = (U.array() * (gp.reference[3 + k] + 0.5 * gp.strain[3 + k] * U).array()).sum();
     sum += kappa.norm();
   }
-  return sum / 4.0;
+  return sum / num_gauss_;
 }
 
 int SolidShellElement::reversedDirectors(const SolidShellState& s) const {
   int count = 0;
-  for (int p = 0; p < 4; ++p) {
-    const int q = (p + 1) % 4, r = (p + 3) % 4;
+  for (int p = 0; p < corners_; ++p) {
+    const int q = (p + 1) % corners_, r = (p + corners_ - 1) % corners_;
     const Eigen::Vector3d n = edge(s, p, q).cross(edge(s, p, r));
     if (n.dot(Xn_[p] + s[dir(p)]) < 0.0) ++count;
   }

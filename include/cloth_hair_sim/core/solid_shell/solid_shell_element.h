@@ -21,8 +21,9 @@ enum class ThicknessStrain { kGreen, kQuasiEngineering };
 
 // Element unknowns d of seed 001 eq. (1), Fig. 1(b): per node the mid-surface displacement U_o
 // and the director displacement U_n (x_n = X_n + U_n, the top-minus-bottom vector over h), node
-// after node: 24 entries. Displacements, not positions, so that a solve resolves them to their
-// own precision rather than to that of the coordinates.
+// after node: 24 entries (a triangle uses the first 18 and leaves the rest zero). Displacements,
+// not positions, so that a solve resolves them to their own precision rather than to that of
+// the coordinates.
 using SolidShellVector = Eigen::Matrix<double, 24, 1>;
 using SolidShellMatrix = Eigen::Matrix<double, 24, 24>;
 using SolidShellState = std::array<Eigen::Vector3d, 8>;  // U_o1, U_n1, ..., U_o4, U_n4
@@ -35,6 +36,11 @@ using SolidShellState = std::array<Eigen::Vector3d, 8>;  // U_o1, U_n1, ..., U_o
 //  - Plane-stress enforcement (7): membrane, bending, shear and thickness energies uncoupled, so
 //    no Poisson coupling of the thickness stress locks bending (thickness locking).
 //  - 2 x 2 Gauss quadrature with the mid-surface Jacobian J_o (8).
+// Or the 3-node triangle of eqs. (10)-(15) (the building block of the adaptive mesh's
+// macro-transition elements): linear shape functions in the area coordinates, ANS transverse
+// shear sampled along the three edges at their midpoints (12), extrapolated to each node from the
+// two edges meeting there (13) and interpolated (14); thickness strain sampled at the nodes (15);
+// the three-point rule.
 // Every strain of (3)-(5) is a quadratic form in the nodal vectors, so force and tangent (9) are
 // exact: f = sum w J_o (dE/dd)^T C E, K = sum w J_o [(dE/dd)^T C dE/dd + sum_k (C E)_k d2E_k/dd2].
 class SolidShellElement {
@@ -45,7 +51,14 @@ class SolidShellElement {
                     const std::array<Eigen::Vector3d, 4>& Xn, const Eigen::Vector3d& material_x,
                     const SolidShellRigidity& rigidity,
                     ThicknessStrain thickness_strain = ThicknessStrain::kGreen, double mu = 0.5);
+  // The triangle (nodes counter-clockwise about the directors).
+  SolidShellElement(const std::array<int, 3>& nodes, const std::array<Eigen::Vector3d, 3>& X,
+                    const std::array<Eigen::Vector3d, 3>& Xn, const Eigen::Vector3d& material_x,
+                    const SolidShellRigidity& rigidity,
+                    ThicknessStrain thickness_strain = ThicknessStrain::kGreen, double mu = 0.5);
 
+  int corners() const { return corners_; }  // 4 or 3
+  // The element's nodes (a triangle's fourth is -1).
   const std::array<int, 4>& nodes() const { return nodes_; }
   // int N_i dA: lumped mid-surface weights.
   const std::array<double, 4>& nodalAreas() const { return nodal_area_; }
@@ -79,6 +92,13 @@ class SolidShellElement {
   double mu_;
   std::array<double, 4> nodal_area_{};
   bool valid_ = true;
+  int corners_ = 4, num_gauss_ = 4;
+
+  // Fills a quadrature point from its shape functions, mid-surface basis, rule weight and
+  // Cartesian strain forms; false if the reference is degenerate there (J_o <= 0).
+  bool setGaussPoint(GaussPoint& gp, const double N[4], const Eigen::Vector3d& G1,
+                     const Eigen::Vector3d& G2, const Eigen::Vector3d& Gn, double rule_weight,
+                     const std::array<Form, 8>& strains);
 
   // Deformed mid-surface edge from node p to node q.
   Eigen::Vector3d edge(const SolidShellState& s, int p, int q) const;
