@@ -18,6 +18,14 @@ void setBlasThreads(int threads) {
 
 }  // namespace
 
+void keepCholmodTeamsSmall() {
+  thread_local bool done = false;
+  if (done) return;
+  static const auto set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
+  if (set) set(1);
+  done = true;
+}
+
 void holdBlasToOneThread() {
   static std::once_flag once;
   std::call_once(once, [] { setBlasThreads(1); });

@@ -176,6 +176,7 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
     // unknowns then factorise in 15 ms instead of 22-26 on two cores (one core alone: 17 ms, the
     // other core's idle TBB workers slowing the single BLAS thread).
     const ScopedBlasThreads blas(tbb::this_task_arena::max_concurrency());
+    keepCholmodTeamsSmall();
     factor_->llt.factorize(matrix_);
   }
   factored_ = factor_->llt.info() == Eigen::Success;

@@ -6,7 +6,7 @@
 
 #include <Eigen/UmfPackSupport>
 
-extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+#include "cloth_hair_sim/core/common/blas_threads.h"
 
 namespace chs {
 
@@ -19,7 +19,7 @@ class TangentSolver {
  public:
   TangentSolver() {
     // OpenBLAS's own threads spin against oneTBB's on systems this small; one is faster.
-    if (openblas_set_num_threads) openblas_set_num_threads(1);
+    holdBlasToOneThread();
     lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;  // Newton itself refines the solution
     // The tangent is symmetric up to the small non-symmetric terms: order A + A^T and prefer
     // diagonal pivots, which keeps the fill of a shell stiffness low.

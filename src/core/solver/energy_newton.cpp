@@ -5,7 +5,7 @@
 
 #include <Eigen/CholmodSupport>
 
-extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+#include "cloth_hair_sim/core/common/blas_threads.h"
 
 namespace chs {
 
@@ -20,7 +20,7 @@ constexpr double kMinShift = 1e-8, kMaxShift = 1e6;
 class ModifiedHessian {
  public:
   ModifiedHessian() {
-    if (openblas_set_num_threads) openblas_set_num_threads(1);
+    holdBlasToOneThread();
     // A failed factorisation is expected (it raises mu): no CHOLMOD warning on stderr.
     llt_.cholmod().print = 0;
   }
@@ -36,6 +36,7 @@ class ModifiedHessian {
       analyzed_ = true;
     }
     mu_ = mu_ < 10.0 * kMinShift ? 0.0 : 0.1 * mu_;
+    keepCholmodTeamsSmall();
     for (;;) {
       H_.diagonal() = diag_ + mu_ * diag_.cwiseAbs();
       llt_.factorize(H_);
