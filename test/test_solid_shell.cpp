@@ -15,18 +15,12 @@
 #include "cloth_hair_sim/core/solid_shell/solid_shell_model.h"
 #include "cloth_hair_sim/core/solid_shell/solid_shell_solver.h"
 #include "elastica_reference.h"
+#include "plate_material.h"
 
 namespace chs {
 namespace {
 
-ShellMaterial plate(double E, double nu, double h) {
-  ShellMaterial m;
-  m.young = E;
-  m.poisson = nu;
-  m.thickness = h;
-  m.areal_density = 1.0;
-  return m;
-}
+using fixtures::plate;
 
 // Random nodal displacements U_o, U_n.
 SolidShellState randomState(double amplitude, unsigned seed) {

@@ -15,20 +15,14 @@
 
 #include "cloth_hair_sim/core/solid_shell/solid_shell_element.h"
 #include "cloth_hair_sim/core/solid_shell/solid_shell_model.h"
+#include "plate_material.h"
 
 namespace chs {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-ShellMaterial plate(double E, double nu, double h) {
-  ShellMaterial m;
-  m.young = E;
-  m.poisson = nu;
-  m.thickness = h;
-  m.areal_density = 1.0;
-  return m;
-}
+using fixtures::plate;
 
 const std::array<Vec3, 3> kTriangle = {Vec3(0, 0, 0), Vec3(1.1, 0.15, 0), Vec3(0.3, 0.9, 0)};
 
