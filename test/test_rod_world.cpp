@@ -4,10 +4,10 @@
 // real hair (E = 3.5 GPa, r = 40 um) steps stably at 1/240 s and 1/60 s, clamps follow a moving
 // root frame, a curl stays at rest and
 // sags to its static equilibrium under gravity, a strand rests on a garment of the same world,
-// snapshots restore, the clamp carries the strand's weight and moment, strands draped over a
-// horizontal capsule (a comb) load it with their weight, a bar appearing deep in hair is left
-// at the recovery speed, a grip carries a lock's weight and moment
-// as it lifts it and lets it fall when removed, and bad input is refused.
+// snapshots restore, bodies stepped side by side end as each stepped alone, the clamp carries the
+// strand's weight and moment, strands draped over a horizontal capsule (a comb) load it with their
+// weight, a bar appearing deep in hair is left at the recovery speed, a grip carries a lock's
+// weight and moment as it lifts it and lets it fall when removed, and bad input is refused.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -87,6 +87,57 @@ TEST(HairWorld, MomentumThroughGridStages) {
   std::printf("hair momentum over 20 world steps: max relative change %.3e (|p| %.3e kg m/s)\n",
               worst, p0.norm());
   EXPECT_LT(worst, 1e-9);
+}
+
+// The world steps its bodies' stages side by side (World::forEachBody): a body's stage must touch
+// nothing but its own state. Two tufts of hair half a metre apart (no shared grid node), with
+// strand collisions and random velocities, stepped together end bit for bit where each ends
+// stepped alone in a world of its own.
+TEST(HairWorld, BodiesSideBySideStepAsAlone) {
+  HairSettings hs = settings();
+  hs.strand_collisions.enabled = true;
+  const auto tuft = [&](const Vec3& root, unsigned seed) {
+    auto hair = std::make_shared<HairDynamics>(hs);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n(0.0, 0.2);
+    for (int k = 0; k < 6; ++k) {
+      const Vec3 at = root + Vec3(0.002 * k, 0.001 * (k % 2), 0.0);
+      const int s = hair->addStrand(straightStrand(at, Vec3(0.3, 0.1, -1).normalized(), 0.05, 12),
+                                    humanHair());
+      std::vector<Vec3> v(hair->strand(s).numVertices());
+      for (Vec3& u : v) u = Vec3(n(rng), n(rng), n(rng));
+      hair->setVelocities(s, v);
+    }
+    return hair;
+  };
+  WorldSettings ws;
+  ws.grid_spacing = kDx;
+  World both(ws), first(ws), second(ws);
+  const Vec3 a(0.0, 0.0, 0.2), b(0.5, 0.0, 0.2);
+  auto a1 = tuft(a, 1), b1 = tuft(b, 2), a2 = tuft(a, 1), b2 = tuft(b, 2);
+  both.add("a", a1);
+  both.add("b", b1);
+  first.add("a", a2);
+  second.add("b", b2);
+  const std::vector<Vec3> tip_start = a2->strand(0).positions();
+  for (int step = 0; step < 20; ++step) {
+    both.step(1.0 / 240.0);
+    first.step(1.0 / 240.0);
+    second.step(1.0 / 240.0);
+  }
+  double apart = 0.0;
+  for (const auto& [together, alone] : {std::pair{a1, a2}, std::pair{b1, b2}})
+    for (int s = 0; s < together->numStrands(); ++s)
+      for (int i = 0; i < together->strand(s).numVertices(); ++i)
+        apart = std::max(
+            apart, (together->strand(s).positions()[i] - alone->strand(s).positions()[i]).norm());
+  const double moved = (a2->strand(0).positions().back() - tip_start.back()).norm();
+  std::printf(
+      "two tufts stepped side by side against each alone: %.3e m apart (a tip moved "
+      "%.2e m)\n",
+      apart, moved);
+  EXPECT_EQ(apart, 0.0);
+  EXPECT_GT(moved, 0.0);
 }
 
 // A straight strand lying on a table (its centreline a radius above it): its weight reaches the
