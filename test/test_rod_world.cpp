@@ -2,12 +2,12 @@
 // conserve momentum, a strand on a table reports its weight through World::colliderLoads(),
 // axial stick-slip on a plane follows Coulomb's law (PyElastica's friction validation case),
 // real hair (E = 3.5 GPa, r = 40 um) steps stably at 1/240 s and 1/60 s, clamps follow a moving
-// root frame, a curl stays at rest and
-// sags to its static equilibrium under gravity, a strand rests on a garment of the same world,
-// snapshots restore, bodies stepped side by side end as each stepped alone, the clamp carries the
-// strand's weight and moment, strands draped over a horizontal capsule (a comb) load it with their
-// weight, a bar appearing deep in hair is left at the recovery speed, a grip carries a lock's
-// weight and moment as it lifts it and lets it fall when removed, and bad input is refused.
+// root frame, a curl stays at rest and sags to its static equilibrium under gravity, a strand
+// rests on a garment of the same world, snapshots restore, bodies stepped side by side end as
+// each stepped alone, the clamp carries the strand's weight and moment, strands draped over a
+// horizontal capsule (a comb) load it with their weight, a bar appearing deep in hair is left at
+// the recovery speed, a grip carries a lock's weight and moment as it lifts it and lets it fall
+// when removed, and bad input is refused.
 #include <cmath>
 #include <cstdio>
 #include <memory>
