@@ -749,6 +749,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     res.message = who + "loaded, " + std::to_string(res.vertices) + " vertices, " +
                   std::to_string(res.faces) + " quads, material " + g.material_name;
     garments_.emplace(req.name, std::move(g));
+    refreshCatalogue();
     substep_cost_ = 0.0;  // the world grew: the next update probes its cost
   } catch (const std::exception& e) {
     res.message = who + e.what();
@@ -765,27 +766,35 @@ bool SimNode::removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
   std::lock_guard<std::mutex> lock(mutex_);
   res.success = garments_.erase(req.name) > 0;
   world_.remove(req.name);
+  refreshCatalogue();
   res.message = "garment '" + req.name + "': " + (res.success ? "removed" : "not loaded");
   const std::vector<std::string> dropped = dropGrasps(req.name);
   if (!dropped.empty()) res.message += "; grasps released: " + joined(dropped);
   return true;
 }
 
-bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
-                           cloth_hair_sim::ListGarments::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+void SimNode::refreshCatalogue() {
+  cloth_hair_sim::ListGarments::Response list;
   for (const auto& [name, g] : garments_) {
-    res.names.push_back(name);
-    res.vertices.push_back(g.dynamics->numVertices());
-    res.materials.push_back(g.material_name);
-    res.kinds.push_back("garment");
+    list.names.push_back(name);
+    list.vertices.push_back(g.dynamics->numVertices());
+    list.materials.push_back(g.material_name);
+    list.kinds.push_back("garment");
   }
   for (const auto& [name, h] : hairs_) {
-    res.names.push_back(name);
-    res.vertices.push_back(h.numVertices());
-    res.materials.push_back(h.material_name);
-    res.kinds.push_back("hair");
+    list.names.push_back(name);
+    list.vertices.push_back(h.numVertices());
+    list.materials.push_back(h.material_name);
+    list.kinds.push_back("hair");
   }
+  std::lock_guard<std::mutex> lock(catalogue_mutex_);
+  catalogue_ = std::move(list);
+}
+
+bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
+                           cloth_hair_sim::ListGarments::Response& res) {
+  std::lock_guard<std::mutex> lock(catalogue_mutex_);
+  res = catalogue_;
   return true;
 }
 
@@ -1141,6 +1150,7 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
     grasps_ = std::move(saved.grasps);
     hairs_ = std::move(saved.hairs);
     hair_grasps_ = std::move(saved.hair_grasps);
+    refreshCatalogue();
     sim_time_ = saved.clock.sim_time;
     steps_ = saved.clock.steps;
     paused_ = saved.clock.paused;

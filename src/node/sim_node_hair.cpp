@@ -88,6 +88,7 @@ bool SimNode::loadHair(cloth_hair_sim::LoadHair::Request& req,
                   (h.loose ? ", loose (roots free)" : ", roots on frame '" + h.frame_id + "'") +
                   continuumNote(settings.continuum);
     hairs_.emplace(req.name, std::move(h));
+    refreshCatalogue();
     substep_cost_ = 0.0;  // the world grew: the next update probes its cost
   } catch (const std::exception& e) {
     return refuse(e.what());
@@ -101,6 +102,7 @@ bool SimNode::removeHair(cloth_hair_sim::RemoveGarment::Request& req,
   std::lock_guard<std::mutex> lock(mutex_);
   res.success = hairs_.erase(req.name) > 0;
   if (res.success) world_.remove(req.name);
+  refreshCatalogue();
   res.message = "hair '" + req.name + "': " + (res.success ? "removed" : "not loaded");
   for (const std::string& n : dropHairGrasps(req.name)) res.message += "; grasp " + n + " released";
   return true;

@@ -151,6 +151,7 @@ void SimNode::reconfigureMaterial(cloth_hair_sim::SimConfig& c) {
   for (auto& [name, grasp] : grasps_)
     if (grasp.garment == g.name) grasp.attachment.pinAt(*g.dynamics, 1.0);
   show(&g);
+  refreshCatalogue();  // the material's name
   const chs::ShellMaterial& m = g.reference.material;
   ROS_INFO(
       "dynamic_reconfigure: garment '%s': E %g Pa, nu %g, thickness %g m, %g kg/m^2, self "
