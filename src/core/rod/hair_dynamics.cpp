@@ -519,7 +519,8 @@ void HairDynamics::transferFromGrid(double dt) {
   }
   // Strands in parallel; each keeps its vertices' impulses on the colliders, summed after in
   // strand order (the same sum on any thread count).
-  strand_grid_impulse_.assign(strands_.size(), std::vector<mpm::ColliderImpulse>(surfaces_.size()));
+  const std::size_t nc = surfaces_.size();
+  strand_grid_impulse_.assign(strands_.size() * nc, mpm::ColliderImpulse());
   tbb::parallel_for(0, numStrands(), [&](int k) {
     Strand& s = strands_[k];
     DiscreteElasticRod& rod = s.rod;
@@ -558,7 +559,7 @@ void HairDynamics::transferFromGrid(double dt) {
           if (v_rel.dot(pr.normal) < 0.0) {
             const Vec3 before = v;
             v = vc + mpm::collideRelativeVelocity(v_rel, pr.normal, gc.boundary, gc.friction);
-            strand_grid_impulse_[k][c].add(x, rod.vertexMass(i) * (v - before));
+            strand_grid_impulse_[k * nc + c].add(x, rod.vertexMass(i) * (v - before));
             particles_.C[p].setZero();
             x = x_start + dt * v;
           }
@@ -570,10 +571,10 @@ void HairDynamics::transferFromGrid(double dt) {
       particles_.x[p] = x;
     }
   });
-  for (const std::vector<mpm::ColliderImpulse>& impulses : strand_grid_impulse_)
-    for (std::size_t c = 0; c < impulses.size(); ++c) {
-      collider_impulse_[c].linear += impulses[c].linear;
-      collider_impulse_[c].angular += impulses[c].angular;
+  for (std::size_t k = 0; k < strands_.size(); ++k)
+    for (std::size_t c = 0; c < nc; ++c) {
+      collider_impulse_[c].linear += strand_grid_impulse_[k * nc + c].linear;
+      collider_impulse_[c].angular += strand_grid_impulse_[k * nc + c].angular;
     }
   last_collisions_ = StrandCollisionStats();
   if (settings_.strand_collisions.enabled && !strands_.empty()) {

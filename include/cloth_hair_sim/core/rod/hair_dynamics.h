@@ -271,7 +271,8 @@ class HairDynamics : public Body {
   std::vector<mpm::GridCollider> colliders_;
   std::vector<StrandObstacle> obstacles_;  // the same, for the strands' implicit solves
   std::vector<mpm::ColliderImpulse> collider_impulse_;
-  std::vector<std::vector<mpm::ColliderImpulse>> strand_grid_impulse_;  // per strand, per collider
+  // Per strand, per collider (strand k's impulse on collider c at k * colliders + c).
+  std::vector<mpm::ColliderImpulse> strand_grid_impulse_;
   std::map<int, Grip> grips_;
   int next_grip_ = 0;
   StrandCollisions collisions_;
