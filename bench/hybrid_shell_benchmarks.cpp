@@ -1,6 +1,7 @@
 // Hybrid shell benchmarks (run by hand, never by ctest): the cost of one explicit step of
 // HybridShellDynamics on a square sheet of n x n quads lying on a sphere, split into the stages
-// of stageTimes(), the Kirchhoff-Love energy gradient alone (the shell forces' core), and two
+// of stageTimes(), the Kirchhoff-Love energy gradient alone (the shell forces' core), one fibre's
+// Hessian for the implicit step (closed form against the former forward differences), and two
 // sheets lying on each other stepped as two bodies of one World against the same two each on a
 // grid of its own (the price of contact between their velocity fields).
 //
@@ -8,17 +9,21 @@
 // Kirchhoff-Love quadrature (KirchhoffLoveQuadrature::in_plane_order). Counters are per step: stage
 // times in ms and the cost per particle / per Kirchhoff-Love point in ns of wall time. The step
 // size is the stable one at the start, so every iteration does the same work a drape would.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/io/material_presets.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_hair_sim/core/shell/kirchhoff_love_hessian.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
 #include "cloth_hair_sim/core/world/world.h"
@@ -109,6 +114,119 @@ BENCHMARK(kirchhoffLoveGradient)
     ->ArgNames({"quads", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The former fibre Hessian, for comparison: forward differences of the exact gradient in the sums
+// (steps of 1e-7 of their size), symmetrised.
+chs::FibreHessian forwardDifferenceFibreHessian(const std::vector<chs::KirchhoffLovePoint>& points,
+                                                const chs::FibreRange& fibre,
+                                                const chs::HenckyLamina& material,
+                                                const chs::StencilSums& s) {
+  chs::StencilSums g0, g1;
+  chs::fibreEnergy(points, fibre, material, s, &g0);
+  chs::FibreHessian H;
+  for (int a = 0; a < 5; ++a) {
+    const double h = 1e-7 * std::max({s[a].norm(), s[0].norm(), s[1].norm()});
+    for (int i = 0; i < 3; ++i) {
+      chs::StencilSums t = s;
+      t[a][i] += h;
+      chs::fibreEnergy(points, fibre, material, t, &g1);
+      for (int b = 0; b < 5; ++b) H.block<3, 1>(3 * b, 3 * a + i) = (g1[b] - g0[b]) / h;
+    }
+  }
+  return 0.5 * (H + H.transpose());
+}
+
+// projectedFibreHessian's projection, applied to the differences as the former version did.
+chs::FibreHessian projected(const chs::FibreHessian& H) {
+  const Eigen::LDLT<chs::FibreHessian> ldlt(H);
+  const auto& d = ldlt.vectorD();
+  if (ldlt.info() == Eigen::Success && d.minCoeff() >= -1e-6 * d.cwiseAbs().maxCoeff()) return H;
+  Eigen::SelfAdjointEigenSolver<chs::FibreHessian> eig(H);
+  const Eigen::Matrix<double, 15, 1> lambda = eig.eigenvalues().cwiseMax(0.0);
+  return eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+// The fibres of lagrangianStep's towel (scene 0: 50 x 50 cm cotton, 25 x 25 cells, pinned at two
+// adjacent corners) 60 steps after its release, hanging and wrinkled at the pins, with their
+// stencil sums; built once.
+struct TowelFibres {
+  std::vector<chs::KirchhoffLovePoint> points;
+  std::vector<chs::FibreRange> fibres;
+  std::vector<chs::StencilSums> sums;
+  chs::HenckyLamina lamina{1.0, 0.3};
+};
+
+const TowelFibres& towelFibres() {
+  static const TowelFibres towel = [] {
+    const int n = 25;
+    chs::DrapeProblem p;
+    p.material = *chs::materialPreset("cotton_eischen");
+    p.mesh = chs::makeRectangleMesh(0.5, 0.5, n, n);
+    for (auto& x : p.mesh.vertices) x.z() = 1.0;
+    p.bc.pinned = {n * (n + 1), (n + 1) * (n + 1) - 1};
+    chs::HybridShellSettings settings;
+    settings.integration = chs::TimeIntegration::kLagrangianImplicit;
+    settings.max_time_step = 1.0 / 60.0;
+    settings.friction = 0.3;
+    chs::HybridShellDynamics d(p, settings);
+    for (int i = 0; i < 60; ++i) d.step(d.stableTimeStep());
+    TowelFibres t;
+    const chs::LimitSurface surface(p.mesh);
+    t.points = chs::buildKirchhoffLovePoints(
+        surface.numFaces(), [&](int f, double u, double v) { return surface.stencil(f, u, v); },
+        p.mesh.vertices, p.material.thickness, settings.kirchhoff_love);
+    t.fibres = chs::fibreRanges(t.points);
+    for (const chs::FibreRange& f : t.fibres)
+      t.sums.push_back(chs::MidSurfaceFrame::sums(t.points[f.first].stencil(), d.positions()));
+    t.lamina = chs::HenckyLamina(p.material.young, p.material.poisson);
+    return t;
+  }();
+  return towel;
+}
+
+// One fibre's Hessian for the implicit step on towelFibres. method: 0, projectedFibreHessian
+// (closed form, projected); 1, the former forward differences with the same projection; 2 and 3,
+// the closed form and the differences alone. One thread; ns_per_fibre of wall time; indefinite,
+// the share of fibres that the projection's eigen-decomposition handles.
+void fibreHessian(benchmark::State& state) {
+  const TowelFibres& towel = towelFibres();
+  const auto& points = towel.points;
+  const auto& fibres = towel.fibres;
+  const auto& sums = towel.sums;
+  const chs::HenckyLamina& lamina = towel.lamina;
+  int indefinite = 0;
+  for (std::size_t f = 0; f < fibres.size(); ++f) {
+    const chs::FibreHessian H = chs::fibreHessian(points, fibres[f], lamina, sums[f]);
+    if (projected(H) != H) ++indefinite;
+  }
+  const int method = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    for (std::size_t f = 0; f < fibres.size(); ++f) {
+      const chs::FibreRange& r = fibres[f];
+      chs::FibreHessian H;
+      switch (method) {
+        case 0:
+          H = chs::projectedFibreHessian(points, r, lamina, sums[f]);
+          break;
+        case 1:
+          H = projected(forwardDifferenceFibreHessian(points, r, lamina, sums[f]));
+          break;
+        case 2:
+          H = chs::fibreHessian(points, r, lamina, sums[f]);
+          break;
+        default:
+          H = forwardDifferenceFibreHessian(points, r, lamina, sums[f]);
+      }
+      benchmark::DoNotOptimize(H.data());
+    }
+  }
+  state.counters["fibres"] = static_cast<double>(fibres.size());
+  state.counters["indefinite"] = static_cast<double>(indefinite) / fibres.size();
+  state.counters["ns_per_fibre"] = benchmark::Counter(
+      static_cast<double>(fibres.size()),
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(fibreHessian)->DenseRange(0, 3)->ArgName("method")->Unit(benchmark::kMillisecond);
 
 // Two n x n sheets, the upper one a quarter cell above the lower one, over the sphere: one step
 // of both, in one world (in_world = 1: field contact between them) or each alone (0).

@@ -46,12 +46,16 @@ class HenckyLamina {
   // The lamina's response to its stretch tensor C_hat = E^T F^T F E (2x2, E = frame's first two
   // columns): psi and the second Piola-Kirchhoff stress S = 2 dpsi/dC_hat = C_hat^{-1} (2 mu
   // eps^R + lambda tr eps^R), so that P = F E S E^T. One closed-form spectral decomposition
-  // gives both (the Kirchhoff-Love forces need both at every quadrature point).
+  // gives both (the Kirchhoff-Love forces need both at every quadrature point). With hessian, also
+  // the material tangent for an implicit step: the second derivatives of psi in the independent
+  // components c = (C_11, C_22, C_12) of C_hat (C_21 = C_12), so that dpsi/dc = (S_11 / 2,
+  // S_22 / 2, S_12).
   struct LaminaResponse {
     double energy_density;
     Eigen::Matrix2d second_piola;
   };
-  LaminaResponse laminaResponse(const Eigen::Matrix2d& C_hat) const;
+  LaminaResponse laminaResponse(const Eigen::Matrix2d& C_hat,
+                                Eigen::Matrix3d* hessian = nullptr) const;
   // Kirchhoff stress (5.12)/(A.2): tau = tau_ab q_a (x) q_b, tau_ab = 2 mu eps^L_ab + lambda
   // eps^L_gg delta_ab, from the QR decomposition F e_j = r_ij q_i and eps^L = 1/2 log(r r^T).
   Eigen::Matrix3d kirchhoffStress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& frame) const;

@@ -38,6 +38,8 @@ class KirchhoffLovePoint {
   // Orthonormal reference lamina/fibre frame: columns e_1 = a-bar_1/|a-bar_1|, e_2, e_3 = a-bar_3.
   const Eigen::Matrix3d& laminaFrame() const { return frame_; }
   const Eigen::Matrix3d& plasticDeformation() const { return plastic_; }
+  // M with F^{KL,E,tr} e_alpha = [g_1 g_2 g_3] M e_alpha (3 x 2): g-bar^i (F^{KL,P})^{-1} e_alpha.
+  const Eigen::Matrix<double, 3, 2>& elasticLaminaMap() const { return elastic_lamina_map_; }
   // Restores a plastic state saved from plasticDeformation() (rolling back a step).
   void setPlasticDeformation(const Eigen::Matrix3d& plastic);
 
