@@ -101,6 +101,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   }
   status_pub_ = pnh_.advertise<cloth_hair_sim::SimStatus>("status", 10);
   marker_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1);
+  refreshCatalogue();  // and load_params_, before load_garment can read them
   load_srv_ = pnh_.advertiseService("load_garment", &SimNode::loadGarment, this);
   remove_srv_ = pnh_.advertiseService("remove_garment", &SimNode::removeGarment, this);
   list_srv_ = pnh_.advertiseService("list_garments", &SimNode::listGarments, this);
@@ -534,7 +535,7 @@ std::vector<std::string> SimNode::dropGrasps(const std::string& garment) {
 }
 
 void SimNode::onStepTimer(const ros::TimerEvent& event) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   refreshColliders();
   refreshAttachments();
   const double period = 1.0 / params_.step_rate;
@@ -598,7 +599,7 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
 void SimNode::onStatusTimer(const ros::TimerEvent&) {
   cloth_hair_sim::SimStatus s;
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     s.header.stamp = ros::Time::now();
     s.header.frame_id = params_.world_frame;
     s.state = garments_.empty() && hairs_.empty() ? "idle" : paused_ ? "paused" : "running";
@@ -650,7 +651,7 @@ void SimNode::onMarkerTimer(const ros::TimerEvent&) {
   clear.action = visualization_msgs::Marker::DELETEALL;
   array.markers.push_back(clear);
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     const ros::Time now = ros::Time::now();
     for (const auto& [name, g] : garments_) {
       const chs::DisplaySurface surface = g.dynamics->displaySurface();
@@ -692,12 +693,9 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     ROS_WARN("%s", res.message.c_str());
     return true;
   }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (garments_.count(req.name) || hairs_.count(req.name)) {
-      res.message = who + "a garment or hair of that name is loaded; remove it first";
-      return true;
-    }
+  if (nameTaken(req.name)) {
+    res.message = who + "a garment or hair of that name is loaded; remove it first";
+    return true;
   }
   std::map<std::string, Eigen::Isometry3d> attach_frames;
   for (const auto& group : req.attached) {
@@ -729,28 +727,44 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
   try {
     SimParams params;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
-      params = garmentParams();
+      std::lock_guard<std::mutex> pending(pending_mutex_);
+      params = load_params_;
     }
     Garment g = buildGarment(req, world_from_frame, attach_frames, params);
     g.mesh_pub = pnh_.advertise<cloth_hair_sim::GarmentMesh>("garments/" + req.name + "/mesh", 1);
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (garments_.count(req.name) || hairs_.count(req.name)) {
-      res.message = who + "a garment or hair of that name was loaded meanwhile";
-      return true;
-    }
-    if (g.body) world_.add(req.name, g.body);  // refuses a garment that does not fit the grid
-    g.generation = next_generation_++;
-    g.colour = next_colour_++;
-    g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
     res.vertices = g.reference.mesh.numVertices();
     res.faces = g.reference.mesh.numQuads();
+    const std::string loaded = who + "loaded, " + std::to_string(res.vertices) + " vertices, " +
+                               std::to_string(res.faces) + " quads, material " + g.material_name;
+    std::unique_lock<std::mutex> world(mutex_, std::try_to_lock);
+    if (world.owns_lock()) {
+      adoptPendingGarments();
+      if (garments_.count(req.name) || hairs_.count(req.name)) {
+        res.message = who + "a garment or hair of that name was loaded meanwhile";
+        return true;
+      }
+      insertGarment(req.name, std::move(g));
+      res.message = loaded;
+    } else {
+      // The world is stepping: the garment joins it at the next WorldLock. Its name is checked
+      // against the catalogue (garments_ and hairs_ as of the last change) and the queue.
+      std::lock_guard<std::mutex> pending(pending_mutex_);
+      std::lock_guard<std::mutex> listed(catalogue_mutex_);
+      if (std::count(catalogue_.names.begin(), catalogue_.names.end(), req.name)) {
+        res.message = who + "a garment or hair of that name was loaded meanwhile";
+        return true;
+      }
+      catalogue_.names.push_back(req.name);
+      catalogue_.vertices.push_back(g.dynamics->numVertices());
+      catalogue_.materials.push_back(g.material_name);
+      catalogue_.kinds.push_back("garment");
+      // The first body of an empty world sets its grid: later loads are built on it.
+      if (load_params_.mpm.grid_spacing <= 0.0 && g.body)
+        load_params_.mpm.grid_spacing = g.body->field().spacing();
+      pending_garments_.emplace_back(req.name, std::move(g));
+      res.message = loaded + " (joins the stepping world at its next substep)";
+    }
     res.success = true;
-    res.message = who + "loaded, " + std::to_string(res.vertices) + " vertices, " +
-                  std::to_string(res.faces) + " quads, material " + g.material_name;
-    garments_.emplace(req.name, std::move(g));
-    refreshCatalogue();
-    substep_cost_ = 0.0;  // the world grew: the next update probes its cost
   } catch (const std::exception& e) {
     res.message = who + e.what();
   }
@@ -761,9 +775,38 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
   return true;
 }
 
+void SimNode::insertGarment(const std::string& name, Garment g) {
+  if (g.body) world_.add(name, g.body);  // refuses a garment that does not fit the grid
+  g.generation = next_generation_++;
+  g.colour = next_colour_++;
+  g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
+  garments_.emplace(name, std::move(g));
+  refreshCatalogue();
+  substep_cost_ = 0.0;  // the world grew: the next update probes its cost
+}
+
+void SimNode::adoptPendingGarments() {
+  std::vector<std::pair<std::string, Garment>> pending;
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex_);
+    pending.swap(pending_garments_);
+  }
+  for (auto& [name, g] : pending) {
+    try {
+      if (garments_.count(name) || hairs_.count(name))
+        throw chs::InputError("a garment or hair of that name was loaded meanwhile");
+      insertGarment(name, std::move(g));
+    } catch (const std::exception& e) {
+      // The load had answered success: say loudly that it was dropped after all.
+      ROS_ERROR("garment '%s': dropped before it joined the world: %s", name.c_str(), e.what());
+      refreshCatalogue();
+    }
+  }
+}
+
 bool SimNode::removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
                             cloth_hair_sim::RemoveGarment::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   res.success = garments_.erase(req.name) > 0;
   world_.remove(req.name);
   refreshCatalogue();
@@ -787,8 +830,23 @@ void SimNode::refreshCatalogue() {
     list.materials.push_back(h.material_name);
     list.kinds.push_back("hair");
   }
+  std::lock_guard<std::mutex> pending(pending_mutex_);
+  load_params_ = garmentParams();
+  for (const auto& [name, g] : pending_garments_) {
+    if (load_params_.mpm.grid_spacing <= 0.0 && g.body)
+      load_params_.mpm.grid_spacing = g.body->field().spacing();
+    list.names.push_back(name);
+    list.vertices.push_back(g.dynamics->numVertices());
+    list.materials.push_back(g.material_name);
+    list.kinds.push_back("garment");
+  }
   std::lock_guard<std::mutex> lock(catalogue_mutex_);
   catalogue_ = std::move(list);
+}
+
+bool SimNode::nameTaken(const std::string& name) {
+  std::lock_guard<std::mutex> lock(catalogue_mutex_);
+  return std::count(catalogue_.names.begin(), catalogue_.names.end(), name) > 0;
 }
 
 bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
@@ -799,7 +857,7 @@ bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
 }
 
 bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   std::vector<std::string> released;
   try {
     const SimParams params = garmentParams();
@@ -855,7 +913,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
 }
 
 bool SimNode::pause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   paused_ = req.data;
   res.success = true;
   res.message = paused_ ? "paused" : "running";
@@ -863,7 +921,7 @@ bool SimNode::pause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response
 }
 
 bool SimNode::step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSim::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   res.success = false;
   if (!paused_) {
     res.message = "the simulation is running: pause it first (~pause true)";
@@ -909,7 +967,7 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
   chs::DrapeProblem problem;
   std::uint64_t generation = 0;
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     const auto it = garments_.find(req.garment);
     if (it == garments_.end()) {
       res.message = who + "no garment of that name is loaded";
@@ -962,7 +1020,7 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
                                       [](const Eigen::Vector3d& x) { return x.allFinite(); });
     if (complete) res.mesh = meshMessage(problem.mesh, r.positions);
     if (r.converged && complete) {
-      std::lock_guard<std::mutex> lock(mutex_);
+      const WorldLock lock(*this);
       const auto it = garments_.find(req.garment);
       if (it == garments_.end() || it->second.generation != generation) {
         res.message += "; not applied: the garment was removed, reloaded or reset meanwhile";
@@ -1006,7 +1064,7 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
                   "' (" + error + ")";
     return true;
   }
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   const auto it = garments_.find(req.garment);
   const auto hair = hairs_.find(req.garment);
   if (grasps_.count(req.name) || hair_grasps_.count(req.name)) {
@@ -1050,7 +1108,7 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
 
 bool SimNode::release(cloth_hair_sim::ReleaseGrasp::Request& req,
                       cloth_hair_sim::ReleaseGrasp::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   if (const auto hg = hair_grasps_.find(req.name); hg != hair_grasps_.end()) {
     const auto h = hairs_.find(hg->second.hair);
     std::size_t n = 0;
@@ -1092,7 +1150,7 @@ bool SimNode::saveState(cloth_hair_sim::StateFile::Request& req,
   }
   std::string payload, summary;
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     payload = encodeSimulation(params_.dynamics_backend,
                                {sim_time_, steps_, paused_, rollbacks_, unconverged_solves_},
                                garments_, grasps_, hairs_, hair_grasps_);
@@ -1123,11 +1181,11 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
     // Read, rebuilt and checked before the running simulation is touched.
     chs::rod::HairSettings hair_settings;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      const WorldLock lock(*this);
       hair_settings = hairSettings();
     }
     SavedSimulation saved = readSimulation(req.path, params_, hair_settings, hair_display_strands_);
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     const chs::RigidSurfaces surfaces = colliders_.surfaces();
     const std::vector<double> frictions = colliders_.frictions();
     for (auto& [name, g] : saved.garments) {

@@ -159,12 +159,36 @@ class SimNode {
   tf2_ros::TransformListener tf_listener_;
 
   std::mutex mutex_;
-  // What ~list_garments answers, under its own mutex: the list is rebuilt from garments_ and
-  // hairs_ (under mutex_) wherever they change and after every update, so that listing them
-  // never waits for a step of the world (a step of 20 garments takes up to ~0.1 s).
+  // mutex_, taken with the garments that ~load_garment built meanwhile adopted first: every
+  // section under mutex_ sees them in garments_ and world_.
+  class WorldLock {
+   public:
+    explicit WorldLock(SimNode& node) : lock_(node.mutex_) { node.adoptPendingGarments(); }
+
+   private:
+    std::lock_guard<std::mutex> lock_;
+  };
+  // Garments built by ~load_garment while an update of the world held mutex_: the service
+  // answers at once instead of waiting for the update (one substep of a 20-garment world takes
+  // ~0.1 s), and they join at the next WorldLock, in load order. Under pending_mutex_.
+  std::mutex pending_mutex_;
+  std::vector<std::pair<std::string, Garment>> pending_garments_;
+  // Under mutex_.
+  void adoptPendingGarments();
+  // Under mutex_: puts a built garment into garments_ and world_. Throws chs::InputError when
+  // the world refuses it (grid spacing or kernel other than the world's).
+  void insertGarment(const std::string& name, Garment g);
+  // What ~list_garments answers, under its own mutex: the list is rebuilt from garments_,
+  // hairs_ (under mutex_) and the pending garments wherever they change, so that listing them
+  // never waits for a step of the world (a step of 20 garments takes up to ~0.1 s). The same
+  // call refreshes load_params_ (under pending_mutex_): garmentParams() for the loads built
+  // while the world steps.
   std::mutex catalogue_mutex_;
   cloth_hair_sim::ListGarments::Response catalogue_;
+  SimParams load_params_;
   void refreshCatalogue();
+  // Whether the catalogue lists a garment or hair of that name (without mutex_).
+  bool nameTaken(const std::string& name);
   ColliderTracker colliders_;
   std::map<std::string, Garment> garments_;
   std::map<std::string, Hair> hairs_;  // bodies of world_ too
