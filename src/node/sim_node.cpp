@@ -115,13 +115,15 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   release_srv_ = pnh_.advertiseService("release", &SimNode::release, this);
   save_state_srv_ = pnh_.advertiseService("save_state", &SimNode::saveState, this);
   load_state_srv_ = pnh_.advertiseService("load_state", &SimNode::loadState, this);
+  timer_nh_ = nh_;
+  timer_nh_.setCallbackQueue(&timer_queue_);
   step_timer_ =
-      nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
-  status_timer_ =
-      nh_.createTimer(ros::Duration(1.0 / params_.status_rate), &SimNode::onStatusTimer, this);
-  marker_timer_ =
-      nh_.createTimer(ros::Duration(1.0 / params_.marker_rate), &SimNode::onMarkerTimer, this);
-  diagnostics_ = std::make_unique<SimDiagnostics>(nh_, pnh_, params_.real_time_factor,
+      timer_nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
+  status_timer_ = timer_nh_.createTimer(ros::Duration(1.0 / params_.status_rate),
+                                        &SimNode::onStatusTimer, this);
+  marker_timer_ = timer_nh_.createTimer(ros::Duration(1.0 / params_.marker_rate),
+                                        &SimNode::onMarkerTimer, this);
+  diagnostics_ = std::make_unique<SimDiagnostics>(timer_nh_, pnh_, params_.real_time_factor,
                                                   [this] { return healthSample(); });
   drape_action_ = std::make_unique<DrapeAction>(
       pnh_, [this](const auto& req, auto& res, const auto& progress, const auto* cancel) {
@@ -133,6 +135,8 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       params_.world_frame.c_str(), colliders_.colliders().size(), params_.dynamics_backend.c_str(),
       params_.dt, params_.step_rate, params_.real_time_factor);
   startReconfigure();
+  timer_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &timer_queue_);
+  timer_spinner_->start();
 }
 
 void SimNode::refreshColliders() {
@@ -738,7 +742,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
                                std::to_string(res.faces) + " quads, material " + g.material_name;
     std::unique_lock<std::mutex> world(mutex_, std::try_to_lock);
     if (world.owns_lock()) {
-      adoptPendingGarments();
+      applyPendingEdits();
       if (garments_.count(req.name) || hairs_.count(req.name)) {
         res.message = who + "a garment or hair of that name was loaded meanwhile";
         return true;
@@ -761,7 +765,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
       // The first body of an empty world sets its grid: later loads are built on it.
       if (load_params_.mpm.grid_spacing <= 0.0 && g.body)
         load_params_.mpm.grid_spacing = g.body->field().spacing();
-      pending_garments_.emplace_back(req.name, std::move(g));
+      pending_edits_.push_back({req.name, std::move(g)});
       res.message = loaded + " (joins the stepping world at its next substep)";
     }
     res.success = true;
@@ -785,33 +789,67 @@ void SimNode::insertGarment(const std::string& name, Garment g) {
   substep_cost_ = 0.0;  // the world grew: the next update probes its cost
 }
 
-void SimNode::adoptPendingGarments() {
-  std::vector<std::pair<std::string, Garment>> pending;
+void SimNode::applyPendingEdits() {
+  std::vector<PendingEdit> edits;
   {
     std::lock_guard<std::mutex> lock(pending_mutex_);
-    pending.swap(pending_garments_);
+    edits.swap(pending_edits_);
   }
-  for (auto& [name, g] : pending) {
+  for (PendingEdit& edit : edits) {
+    if (!edit.garment) {
+      const std::vector<std::string> dropped = eraseGarment(edit.name);
+      const std::string grasps = dropped.empty() ? "" : "; grasps released: " + joined(dropped);
+      ROS_INFO("garment '%s': left the world%s", edit.name.c_str(), grasps.c_str());
+      continue;
+    }
     try {
-      if (garments_.count(name) || hairs_.count(name))
+      if (garments_.count(edit.name) || hairs_.count(edit.name))
         throw chs::InputError("a garment or hair of that name was loaded meanwhile");
-      insertGarment(name, std::move(g));
+      insertGarment(edit.name, std::move(*edit.garment));
     } catch (const std::exception& e) {
       // The load had answered success: say loudly that it was dropped after all.
-      ROS_ERROR("garment '%s': dropped before it joined the world: %s", name.c_str(), e.what());
+      ROS_ERROR("garment '%s': dropped before it joined the world: %s", edit.name.c_str(),
+                e.what());
       refreshCatalogue();
     }
   }
 }
 
+std::vector<std::string> SimNode::eraseGarment(const std::string& name) {
+  garments_.erase(name);
+  world_.remove(name);
+  refreshCatalogue();
+  return dropGrasps(name);
+}
+
 bool SimNode::removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
                             cloth_hair_sim::RemoveGarment::Response& res) {
-  const WorldLock lock(*this);
-  res.success = garments_.erase(req.name) > 0;
-  world_.remove(req.name);
-  refreshCatalogue();
-  res.message = "garment '" + req.name + "': " + (res.success ? "removed" : "not loaded");
-  const std::vector<std::string> dropped = dropGrasps(req.name);
+  const std::string who = "garment '" + req.name + "': ";
+  std::unique_lock<std::mutex> world(mutex_, std::try_to_lock);
+  if (!world.owns_lock()) {
+    // The world is stepping: the garment leaves it at the next WorldLock.
+    std::lock_guard<std::mutex> pending(pending_mutex_);
+    std::lock_guard<std::mutex> listed(catalogue_mutex_);
+    auto& c = catalogue_;
+    std::size_t i = 0;
+    while (i < c.names.size() && !(c.names[i] == req.name && c.kinds[i] == "garment")) ++i;
+    res.success = i < c.names.size();
+    if (res.success) {
+      c.names.erase(c.names.begin() + i);
+      c.vertices.erase(c.vertices.begin() + i);
+      c.materials.erase(c.materials.begin() + i);
+      c.kinds.erase(c.kinds.begin() + i);
+      pending_edits_.push_back({req.name, std::nullopt});
+    }
+    res.message = who + (res.success ? "removed (leaves the stepping world at its next substep, "
+                                       "its grasps with it)"
+                                     : "not loaded");
+    return true;
+  }
+  applyPendingEdits();
+  res.success = garments_.count(req.name) > 0;
+  const std::vector<std::string> dropped = eraseGarment(req.name);
+  res.message = who + (res.success ? "removed" : "not loaded");
   if (!dropped.empty()) res.message += "; grasps released: " + joined(dropped);
   return true;
 }
@@ -832,10 +870,22 @@ void SimNode::refreshCatalogue() {
   }
   std::lock_guard<std::mutex> pending(pending_mutex_);
   load_params_ = garmentParams();
-  for (const auto& [name, g] : pending_garments_) {
+  for (const PendingEdit& edit : pending_edits_) {
+    if (!edit.garment) {
+      for (std::size_t i = 0; i < list.names.size(); ++i)
+        if (list.names[i] == edit.name && list.kinds[i] == "garment") {
+          list.names.erase(list.names.begin() + i);
+          list.vertices.erase(list.vertices.begin() + i);
+          list.materials.erase(list.materials.begin() + i);
+          list.kinds.erase(list.kinds.begin() + i);
+          break;
+        }
+      continue;
+    }
+    const Garment& g = *edit.garment;
     if (load_params_.mpm.grid_spacing <= 0.0 && g.body)
       load_params_.mpm.grid_spacing = g.body->field().spacing();
-    list.names.push_back(name);
+    list.names.push_back(edit.name);
     list.vertices.push_back(g.dynamics->numVertices());
     list.materials.push_back(g.material_name);
     list.kinds.push_back("garment");

@@ -164,8 +164,15 @@ class WorldNode(unittest.TestCase):
         self.assertEqual(status.garments, 8)
         self.assertGreaterEqual(deferred, 1)
         for name in names:
-            self.assertTrue(self.remove(name=name).success)
+            res = self.remove(name=name)
+            self.assertTrue(res.success, res.message)
+            self.assertNotIn(name, self.list().names)  # unlisted at once, left or not
+        self.assertFalse(self.remove(name='extra_0').success)
         self.assertEqual(sorted(self.list().names), ['bottom', 'top'])
+        deadline = time.time() + 30.0
+        while time.time() < deadline and self.status.get().garments != 2:
+            time.sleep(0.05)
+        self.assertEqual(self.status.get().garments, 2)
 
 
 if __name__ == '__main__':
