@@ -963,10 +963,11 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
 }
 
 bool SimNode::pause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
-  const WorldLock lock(*this);
+  // Without mutex_: a pause asked during an update answers at once and holds the world from the
+  // end of that update (~max_update_wall at most).
   paused_ = req.data;
   res.success = true;
-  res.message = paused_ ? "paused" : "running";
+  res.message = req.data ? "paused" : "running";
   return true;
 }
 

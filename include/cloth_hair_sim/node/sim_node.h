@@ -230,7 +230,8 @@ class SimNode {
   double tf_delay_ = 0.05;
   std::uint64_t next_generation_ = 1;
   int next_colour_ = 0;
-  bool paused_ = false;
+  // Written by ~pause without mutex_ (it takes effect when the update in progress ends).
+  std::atomic<bool> paused_{false};
   bool transforms_ok_ = true;
   double sim_time_ = 0.0;
   std::uint64_t steps_ = 0;
