@@ -4,7 +4,7 @@
 # node (config/default.yaml: real_time_factor 1, no colliders) with the given integration and
 # substep. Prints how long each load_garment took (while the garments already loaded step), then,
 # over SECONDS of wall time, the achieved real-time factor and the latency of ~list_garments
-# called every 0.25 s.
+# called every 0.25 s, then how long ~pause and each remove_garment took.
 # Usage (after make build): scripts/node_garments_benchmark.sh [count] [integration] [dt] [seconds]
 #   e.g. scripts/node_garments_benchmark.sh 20 lagrangian_implicit 0.0166667 20
 set -euo pipefail
@@ -23,7 +23,8 @@ import time
 
 import rospy
 from cloth_hair_sim.msg import SimStatus
-from cloth_hair_sim.srv import ListGarments, LoadGarment, LoadGarmentRequest
+from cloth_hair_sim.srv import ListGarments, LoadGarment, LoadGarmentRequest, RemoveGarment
+from std_srvs.srv import SetBool
 
 count, seconds = int(sys.argv[1]), float(sys.argv[2])
 rospy.init_node('node_garments_benchmark', anonymous=True)
@@ -63,4 +64,26 @@ print('node garments: %d listed; %.3f s simulated in %.1f s of wall: real-time f
           s1.dt, s1.rollbacks, s1.unconverged_solves))
 print('node garments: ~list_garments latency median %.3f s, max %.3f s over %d calls' % (
     statistics.median(latency), max(latency), len(latency)))
+# ~pause does not wait for the update either.
+pause = rospy.ServiceProxy('/sim/pause', SetBool)
+pauses = []
+for k in range(10):
+    for state in (True, False):
+        t = time.time()
+        pause(state)
+        pauses.append(time.time() - t)
+        time.sleep(0.1)
+print('node garments: %d pause calls, each %.3f s median, %.3f s at most' % (
+    len(pauses), statistics.median(pauses), max(pauses)))
+# remove_garment, when an update is in progress, is queued for the next substep.
+remove = rospy.ServiceProxy('/sim/remove_garment', RemoveGarment)
+removals = []
+for k in range(count):
+    t = time.time()
+    if not remove(name='garment_%d' % k).success:
+        sys.exit('removal of garment %d failed' % k)
+    removals.append(time.time() - t)
+    time.sleep(0.1)
+print('node garments: %d removals, each %.3f s median, %.3f s at most (the first %.3f s)' % (
+    count, statistics.median(removals), max(removals), removals[0]))
 PY

@@ -101,6 +101,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   }
   status_pub_ = pnh_.advertise<cloth_hair_sim::SimStatus>("status", 10);
   marker_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1);
+  refreshCatalogue();  // and load_params_, before load_garment can read them
   load_srv_ = pnh_.advertiseService("load_garment", &SimNode::loadGarment, this);
   remove_srv_ = pnh_.advertiseService("remove_garment", &SimNode::removeGarment, this);
   list_srv_ = pnh_.advertiseService("list_garments", &SimNode::listGarments, this);
@@ -114,13 +115,15 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   release_srv_ = pnh_.advertiseService("release", &SimNode::release, this);
   save_state_srv_ = pnh_.advertiseService("save_state", &SimNode::saveState, this);
   load_state_srv_ = pnh_.advertiseService("load_state", &SimNode::loadState, this);
+  timer_nh_ = nh_;
+  timer_nh_.setCallbackQueue(&timer_queue_);
   step_timer_ =
-      nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
-  status_timer_ =
-      nh_.createTimer(ros::Duration(1.0 / params_.status_rate), &SimNode::onStatusTimer, this);
-  marker_timer_ =
-      nh_.createTimer(ros::Duration(1.0 / params_.marker_rate), &SimNode::onMarkerTimer, this);
-  diagnostics_ = std::make_unique<SimDiagnostics>(nh_, pnh_, params_.real_time_factor,
+      timer_nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
+  status_timer_ = timer_nh_.createTimer(ros::Duration(1.0 / params_.status_rate),
+                                        &SimNode::onStatusTimer, this);
+  marker_timer_ = timer_nh_.createTimer(ros::Duration(1.0 / params_.marker_rate),
+                                        &SimNode::onMarkerTimer, this);
+  diagnostics_ = std::make_unique<SimDiagnostics>(timer_nh_, pnh_, params_.real_time_factor,
                                                   [this] { return healthSample(); });
   drape_action_ = std::make_unique<DrapeAction>(
       pnh_, [this](const auto& req, auto& res, const auto& progress, const auto* cancel) {
@@ -132,6 +135,8 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       params_.world_frame.c_str(), colliders_.colliders().size(), params_.dynamics_backend.c_str(),
       params_.dt, params_.step_rate, params_.real_time_factor);
   startReconfigure();
+  timer_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &timer_queue_);
+  timer_spinner_->start();
 }
 
 void SimNode::refreshColliders() {
@@ -534,7 +539,7 @@ std::vector<std::string> SimNode::dropGrasps(const std::string& garment) {
 }
 
 void SimNode::onStepTimer(const ros::TimerEvent& event) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   refreshColliders();
   refreshAttachments();
   const double period = 1.0 / params_.step_rate;
@@ -598,7 +603,7 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
 void SimNode::onStatusTimer(const ros::TimerEvent&) {
   cloth_hair_sim::SimStatus s;
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     s.header.stamp = ros::Time::now();
     s.header.frame_id = params_.world_frame;
     s.state = garments_.empty() && hairs_.empty() ? "idle" : paused_ ? "paused" : "running";
@@ -650,7 +655,7 @@ void SimNode::onMarkerTimer(const ros::TimerEvent&) {
   clear.action = visualization_msgs::Marker::DELETEALL;
   array.markers.push_back(clear);
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     const ros::Time now = ros::Time::now();
     for (const auto& [name, g] : garments_) {
       const chs::DisplaySurface surface = g.dynamics->displaySurface();
@@ -692,12 +697,9 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
     ROS_WARN("%s", res.message.c_str());
     return true;
   }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (garments_.count(req.name) || hairs_.count(req.name)) {
-      res.message = who + "a garment or hair of that name is loaded; remove it first";
-      return true;
-    }
+  if (nameTaken(req.name)) {
+    res.message = who + "a garment or hair of that name is loaded; remove it first";
+    return true;
   }
   std::map<std::string, Eigen::Isometry3d> attach_frames;
   for (const auto& group : req.attached) {
@@ -729,28 +731,44 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
   try {
     SimParams params;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
-      params = garmentParams();
+      std::lock_guard<std::mutex> pending(pending_mutex_);
+      params = load_params_;
     }
     Garment g = buildGarment(req, world_from_frame, attach_frames, params);
     g.mesh_pub = pnh_.advertise<cloth_hair_sim::GarmentMesh>("garments/" + req.name + "/mesh", 1);
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (garments_.count(req.name) || hairs_.count(req.name)) {
-      res.message = who + "a garment or hair of that name was loaded meanwhile";
-      return true;
-    }
-    if (g.body) world_.add(req.name, g.body);  // refuses a garment that does not fit the grid
-    g.generation = next_generation_++;
-    g.colour = next_colour_++;
-    g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
     res.vertices = g.reference.mesh.numVertices();
     res.faces = g.reference.mesh.numQuads();
+    const std::string loaded = who + "loaded, " + std::to_string(res.vertices) + " vertices, " +
+                               std::to_string(res.faces) + " quads, material " + g.material_name;
+    std::unique_lock<std::mutex> world(mutex_, std::try_to_lock);
+    if (world.owns_lock()) {
+      applyPendingEdits();
+      if (garments_.count(req.name) || hairs_.count(req.name)) {
+        res.message = who + "a garment or hair of that name was loaded meanwhile";
+        return true;
+      }
+      insertGarment(req.name, std::move(g));
+      res.message = loaded;
+    } else {
+      // The world is stepping: the garment joins it at the next WorldLock. Its name is checked
+      // against the catalogue (garments_ and hairs_ as of the last change) and the queue.
+      std::lock_guard<std::mutex> pending(pending_mutex_);
+      std::lock_guard<std::mutex> listed(catalogue_mutex_);
+      if (std::count(catalogue_.names.begin(), catalogue_.names.end(), req.name)) {
+        res.message = who + "a garment or hair of that name was loaded meanwhile";
+        return true;
+      }
+      catalogue_.names.push_back(req.name);
+      catalogue_.vertices.push_back(g.dynamics->numVertices());
+      catalogue_.materials.push_back(g.material_name);
+      catalogue_.kinds.push_back("garment");
+      // The first body of an empty world sets its grid: later loads are built on it.
+      if (load_params_.mpm.grid_spacing <= 0.0 && g.body)
+        load_params_.mpm.grid_spacing = g.body->field().spacing();
+      pending_edits_.push_back({req.name, std::move(g)});
+      res.message = loaded + " (joins the stepping world at its next substep)";
+    }
     res.success = true;
-    res.message = who + "loaded, " + std::to_string(res.vertices) + " vertices, " +
-                  std::to_string(res.faces) + " quads, material " + g.material_name;
-    garments_.emplace(req.name, std::move(g));
-    refreshCatalogue();
-    substep_cost_ = 0.0;  // the world grew: the next update probes its cost
   } catch (const std::exception& e) {
     res.message = who + e.what();
   }
@@ -761,14 +779,77 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
   return true;
 }
 
+void SimNode::insertGarment(const std::string& name, Garment g) {
+  if (g.body) world_.add(name, g.body);  // refuses a garment that does not fit the grid
+  g.generation = next_generation_++;
+  g.colour = next_colour_++;
+  g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
+  garments_.emplace(name, std::move(g));
+  refreshCatalogue();
+  substep_cost_ = 0.0;  // the world grew: the next update probes its cost
+}
+
+void SimNode::applyPendingEdits() {
+  std::vector<PendingEdit> edits;
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex_);
+    edits.swap(pending_edits_);
+  }
+  for (PendingEdit& edit : edits) {
+    if (!edit.garment) {
+      const std::vector<std::string> dropped = eraseGarment(edit.name);
+      const std::string grasps = dropped.empty() ? "" : "; grasps released: " + joined(dropped);
+      ROS_INFO("garment '%s': left the world%s", edit.name.c_str(), grasps.c_str());
+      continue;
+    }
+    try {
+      if (garments_.count(edit.name) || hairs_.count(edit.name))
+        throw chs::InputError("a garment or hair of that name was loaded meanwhile");
+      insertGarment(edit.name, std::move(*edit.garment));
+    } catch (const std::exception& e) {
+      // The load had answered success: say loudly that it was dropped after all.
+      ROS_ERROR("garment '%s': dropped before it joined the world: %s", edit.name.c_str(),
+                e.what());
+      refreshCatalogue();
+    }
+  }
+}
+
+std::vector<std::string> SimNode::eraseGarment(const std::string& name) {
+  garments_.erase(name);
+  world_.remove(name);
+  refreshCatalogue();
+  return dropGrasps(name);
+}
+
 bool SimNode::removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
                             cloth_hair_sim::RemoveGarment::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  res.success = garments_.erase(req.name) > 0;
-  world_.remove(req.name);
-  refreshCatalogue();
-  res.message = "garment '" + req.name + "': " + (res.success ? "removed" : "not loaded");
-  const std::vector<std::string> dropped = dropGrasps(req.name);
+  const std::string who = "garment '" + req.name + "': ";
+  std::unique_lock<std::mutex> world(mutex_, std::try_to_lock);
+  if (!world.owns_lock()) {
+    // The world is stepping: the garment leaves it at the next WorldLock.
+    std::lock_guard<std::mutex> pending(pending_mutex_);
+    std::lock_guard<std::mutex> listed(catalogue_mutex_);
+    auto& c = catalogue_;
+    std::size_t i = 0;
+    while (i < c.names.size() && !(c.names[i] == req.name && c.kinds[i] == "garment")) ++i;
+    res.success = i < c.names.size();
+    if (res.success) {
+      c.names.erase(c.names.begin() + i);
+      c.vertices.erase(c.vertices.begin() + i);
+      c.materials.erase(c.materials.begin() + i);
+      c.kinds.erase(c.kinds.begin() + i);
+      pending_edits_.push_back({req.name, std::nullopt});
+    }
+    res.message = who + (res.success ? "removed (leaves the stepping world at its next substep, "
+                                       "its grasps with it)"
+                                     : "not loaded");
+    return true;
+  }
+  applyPendingEdits();
+  res.success = garments_.count(req.name) > 0;
+  const std::vector<std::string> dropped = eraseGarment(req.name);
+  res.message = who + (res.success ? "removed" : "not loaded");
   if (!dropped.empty()) res.message += "; grasps released: " + joined(dropped);
   return true;
 }
@@ -787,8 +868,35 @@ void SimNode::refreshCatalogue() {
     list.materials.push_back(h.material_name);
     list.kinds.push_back("hair");
   }
+  std::lock_guard<std::mutex> pending(pending_mutex_);
+  load_params_ = garmentParams();
+  for (const PendingEdit& edit : pending_edits_) {
+    if (!edit.garment) {
+      for (std::size_t i = 0; i < list.names.size(); ++i)
+        if (list.names[i] == edit.name && list.kinds[i] == "garment") {
+          list.names.erase(list.names.begin() + i);
+          list.vertices.erase(list.vertices.begin() + i);
+          list.materials.erase(list.materials.begin() + i);
+          list.kinds.erase(list.kinds.begin() + i);
+          break;
+        }
+      continue;
+    }
+    const Garment& g = *edit.garment;
+    if (load_params_.mpm.grid_spacing <= 0.0 && g.body)
+      load_params_.mpm.grid_spacing = g.body->field().spacing();
+    list.names.push_back(edit.name);
+    list.vertices.push_back(g.dynamics->numVertices());
+    list.materials.push_back(g.material_name);
+    list.kinds.push_back("garment");
+  }
   std::lock_guard<std::mutex> lock(catalogue_mutex_);
   catalogue_ = std::move(list);
+}
+
+bool SimNode::nameTaken(const std::string& name) {
+  std::lock_guard<std::mutex> lock(catalogue_mutex_);
+  return std::count(catalogue_.names.begin(), catalogue_.names.end(), name) > 0;
 }
 
 bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
@@ -799,7 +907,7 @@ bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
 }
 
 bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   std::vector<std::string> released;
   try {
     const SimParams params = garmentParams();
@@ -855,15 +963,16 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
 }
 
 bool SimNode::pause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  // Without mutex_: a pause asked during an update answers at once and holds the world from the
+  // end of that update (~max_update_wall at most).
   paused_ = req.data;
   res.success = true;
-  res.message = paused_ ? "paused" : "running";
+  res.message = req.data ? "paused" : "running";
   return true;
 }
 
 bool SimNode::step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSim::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   res.success = false;
   if (!paused_) {
     res.message = "the simulation is running: pause it first (~pause true)";
@@ -909,7 +1018,7 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
   chs::DrapeProblem problem;
   std::uint64_t generation = 0;
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     const auto it = garments_.find(req.garment);
     if (it == garments_.end()) {
       res.message = who + "no garment of that name is loaded";
@@ -962,7 +1071,7 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
                                       [](const Eigen::Vector3d& x) { return x.allFinite(); });
     if (complete) res.mesh = meshMessage(problem.mesh, r.positions);
     if (r.converged && complete) {
-      std::lock_guard<std::mutex> lock(mutex_);
+      const WorldLock lock(*this);
       const auto it = garments_.find(req.garment);
       if (it == garments_.end() || it->second.generation != generation) {
         res.message += "; not applied: the garment was removed, reloaded or reset meanwhile";
@@ -1006,7 +1115,7 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
                   "' (" + error + ")";
     return true;
   }
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   const auto it = garments_.find(req.garment);
   const auto hair = hairs_.find(req.garment);
   if (grasps_.count(req.name) || hair_grasps_.count(req.name)) {
@@ -1050,7 +1159,7 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
 
 bool SimNode::release(cloth_hair_sim::ReleaseGrasp::Request& req,
                       cloth_hair_sim::ReleaseGrasp::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   if (const auto hg = hair_grasps_.find(req.name); hg != hair_grasps_.end()) {
     const auto h = hairs_.find(hg->second.hair);
     std::size_t n = 0;
@@ -1092,7 +1201,7 @@ bool SimNode::saveState(cloth_hair_sim::StateFile::Request& req,
   }
   std::string payload, summary;
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     payload = encodeSimulation(params_.dynamics_backend,
                                {sim_time_, steps_, paused_, rollbacks_, unconverged_solves_},
                                garments_, grasps_, hairs_, hair_grasps_);
@@ -1123,11 +1232,11 @@ bool SimNode::loadState(cloth_hair_sim::StateFile::Request& req,
     // Read, rebuilt and checked before the running simulation is touched.
     chs::rod::HairSettings hair_settings;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      const WorldLock lock(*this);
       hair_settings = hairSettings();
     }
     SavedSimulation saved = readSimulation(req.path, params_, hair_settings, hair_display_strands_);
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     const chs::RigidSurfaces surfaces = colliders_.surfaces();
     const std::vector<double> frictions = colliders_.frictions();
     for (auto& [name, g] : saved.garments) {

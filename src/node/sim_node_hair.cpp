@@ -57,7 +57,7 @@ bool SimNode::loadHair(cloth_hair_sim::LoadHair::Request& req,
     return refuse(e.what());
   }
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     if (garments_.count(req.name) || hairs_.count(req.name))
       return refuse("a garment or hair of that name is loaded; remove it first");
   }
@@ -70,12 +70,12 @@ bool SimNode::loadHair(cloth_hair_sim::LoadHair::Request& req,
   try {
     chs::rod::HairSettings settings;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      const WorldLock lock(*this);
       settings = hairSettings();
     }
     // Built and checked off the lock (a strand file may be large); the world is touched last.
     Hair h = buildHair(req, world_from_frame, settings, hair_display_strands_);
-    std::lock_guard<std::mutex> lock(mutex_);
+    const WorldLock lock(*this);
     if (garments_.count(req.name) || hairs_.count(req.name))
       return refuse("a garment or hair of that name was loaded meanwhile");
     world_.add(req.name, h.body);  // refuses a body off the world's grid (it changed meanwhile)
@@ -99,7 +99,7 @@ bool SimNode::loadHair(cloth_hair_sim::LoadHair::Request& req,
 
 bool SimNode::removeHair(cloth_hair_sim::RemoveGarment::Request& req,
                          cloth_hair_sim::RemoveGarment::Response& res) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   res.success = hairs_.erase(req.name) > 0;
   if (res.success) world_.remove(req.name);
   refreshCatalogue();

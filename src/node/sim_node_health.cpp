@@ -7,7 +7,7 @@ namespace chs_node {
 
 HealthSample SimNode::healthSample() {
   HealthSample h;
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   h.stamp = ros::Time::now();
   h.running = !paused_ && !garments_.empty();
   h.sim_time = sim_time_;

@@ -35,7 +35,7 @@ void SimNode::startReconfigure() {
 }
 
 void SimNode::onReconfigure(cloth_hair_sim::SimConfig& c) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const WorldLock lock(*this);
   // Each refused value goes back to the last accepted one, which the server then reports.
   auto refuse = [](const std::string& what) {
     ROS_ERROR("dynamic_reconfigure: %s; the previous value is kept", what.c_str());
@@ -89,6 +89,7 @@ void SimNode::onReconfigure(cloth_hair_sim::SimConfig& c) {
   }
   reconfigureMaterial(c);
   live_ = c;
+  refreshCatalogue();  // load_params_: garments loaded from now on take the new damping
 }
 
 void SimNode::reconfigureMaterial(cloth_hair_sim::SimConfig& c) {

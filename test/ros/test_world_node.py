@@ -137,6 +137,43 @@ class WorldNode(unittest.TestCase):
         self.assertLess(latencies[10], 0.1)
         self.assertLess(latencies[-1], 0.5)  # a loaded machine's scheduling on top
 
+    def test_t_loads_answer_while_the_world_steps(self):
+        # After test_services_answer_while_the_world_steps: the two sheets step as fast as they
+        # can, so a load usually finds the world mid-update and its garment joins at the next
+        # substep (load_garment answers without waiting for the update).
+        latencies, deferred = [], 0
+        names = ['extra_%d' % k for k in range(6)]
+        for k, name in enumerate(names):
+            req = sheet(name, 0.04, 3, 1.0)
+            req.pose.position.x = 0.3 + 0.1 * k  # beside the table: free fall
+            t0 = time.time()
+            res = self.load(req)
+            latencies.append(time.time() - t0)
+            self.assertTrue(res.success, res.message)
+            deferred += 'joins the stepping world' in res.message
+            self.assertIn(name, self.list().names)  # listed at once, joined or not
+            # A second load of the name is refused whether the first has joined or not.
+            self.assertFalse(self.load(sheet(name, 0.04, 3, 1.0)).success)
+        deadline = time.time() + 30.0
+        while time.time() < deadline and self.status.get().garments != 8:
+            time.sleep(0.05)
+        status = self.status.get()
+        print('[figure] node: 6 loads while two garments step: median %.3f s, max %.3f s; %d '
+              'joined at the next substep; %d garments stepping' % (
+                  sorted(latencies)[3], max(latencies), deferred, status.garments))
+        self.assertEqual(status.garments, 8)
+        self.assertGreaterEqual(deferred, 1)
+        for name in names:
+            res = self.remove(name=name)
+            self.assertTrue(res.success, res.message)
+            self.assertNotIn(name, self.list().names)  # unlisted at once, left or not
+        self.assertFalse(self.remove(name='extra_0').success)
+        self.assertEqual(sorted(self.list().names), ['bottom', 'top'])
+        deadline = time.time() + 30.0
+        while time.time() < deadline and self.status.get().garments != 2:
+            time.sleep(0.05)
+        self.assertEqual(self.status.get().garments, 2)
+
 
 if __name__ == '__main__':
     rospy.init_node('test_world_node')

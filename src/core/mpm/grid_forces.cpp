@@ -55,19 +55,20 @@ void scatterPointForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
     scatter<3>(grid, x, support, c);
 }
 
-void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& x,
-                        const std::vector<Eigen::Vector3d>& fibres,
-                        const std::vector<Eigen::Vector3d>& t, int degree,
-                        const SupportNodes& support) {
-  checkSizes(x.size(), fibres.size(), "fibres");
-  checkSizes(x.size(), t.size(), "fibre forces");
-  support.check(static_cast<int>(x.size()), degree);
-  const int nn = grid.size(), np = static_cast<int>(x.size());
+void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& fibres,
+                        const std::vector<Eigen::Vector3d>& t, const SupportNodes& support,
+                        const MassSupportedGradientTable& gradients) {
+  checkSizes(fibres.size(), t.size(), "fibre forces");
+  const int nn = grid.size(), np = static_cast<int>(fibres.size());
+  if (support.numParticles() != np || gradients.numParticles() != np ||
+      gradients.per_particle != support.per_particle)
+    throw InputError("fibre forces: " + std::to_string(np) + " fibres, supports of " +
+                     std::to_string(support.numParticles()) + " and weight gradients of " +
+                     std::to_string(gradients.numParticles()) + " particles");
   tbb::enumerable_thread_specific<std::vector<Eigen::Vector3d>> local(
       [nn] { return std::vector<Eigen::Vector3d>(nn, Eigen::Vector3d::Zero()); });
   tbb::parallel_for(0, np, [&](int p) {
-    thread_local std::vector<Eigen::Vector3d> g;
-    massSupportedGradients(grid, x[p], degree, support.of(p), g);
+    const Eigen::Vector3d* g = gradients.of(p);
     std::vector<Eigen::Vector3d>& f = local.local();
     const int* nodes = support.of(p);
     for (int n = 0; n < support.per_particle; ++n) f[nodes[n]] += g[n].dot(fibres[p]) * t[p];

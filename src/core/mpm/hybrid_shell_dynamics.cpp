@@ -469,6 +469,8 @@ void HybridShellDynamics::transferToGrid() {
   mpm::particleToGrid({&control_, &contact_.p, &solid_}, grid_, settings_.kernel_degree,
                       &supports_);
   std::swap(control_.mass, transfer_mass_);
+  mpm::tabulateMassSupportedGradients(grid_, contact_.p.x, settings_.kernel_degree, supports_[1],
+                                      fibre_weight_gradients_);
   if (layers_) layers_->find(grid_, supports_[1], contact_.p.x, near_layer_);
   if (lagrangian() && settings_.flip_blend > 0.0) transferred_velocity_ = grid_.velocity;
 }
@@ -530,8 +532,8 @@ void HybridShellDynamics::scatterShellForces(const std::vector<Vec3>& x_control,
   // transpose, P(f / m): the pair stays the gradient of one contact energy.
   std::swap(grid_.force, shell_node_force_);
   grid_.force.assign(grid_.size(), Vec3::Zero());
-  mpm::scatterFibreForces(grid_, contact_.p.x, contact_.fibre, contact_.fibre_force,
-                          settings_.kernel_degree, supports_[1]);
+  mpm::scatterFibreForces(grid_, contact_.fibre, contact_.fibre_force, supports_[1],
+                          fibre_weight_gradients_);
   for (int i = 0; i < grid_.size(); ++i)
     grid_.force[i] = grid_.mass[i] > 0.0 ? Vec3(grid_.force[i] / grid_.mass[i]) : Vec3::Zero();
   mpm::projectThroughParticles(grid_, massCarriers(), settings_.kernel_degree, grid_.force,
@@ -585,8 +587,8 @@ void HybridShellDynamics::computeTrialGridForces(const std::vector<Vec3>& node_v
   }
   clamps_.placePositions(trial_control_);
   carriedVelocity(node_velocity, fibre_velocity_);
-  mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x, deg, supports_[1],
-                                        fibre_gradient_);
+  mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, supports_[1],
+                                        fibre_weight_gradients_, fibre_gradient_);
   trial_fibre_.resize(contact_.size());
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     const Vec3& a = contact_.fibre[p];
@@ -709,8 +711,8 @@ void HybridShellDynamics::transferToParticles(double dt) {
   // solve left it at its solution, fibre_field_velocity_ (solveGridMomentum).
   if (!lagrangian()) {
     carriedVelocity(grid_.velocity, fibre_velocity_);
-    mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, contact_.p.x,
-                                          settings_.kernel_degree, supports_[1], fibre_gradient_);
+    mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, supports_[1],
+                                          fibre_weight_gradients_, fibre_gradient_);
   }
   std::fill(control_.F.begin(), control_.F.end(), Eigen::Matrix3d::Identity());
   if (lagrangian() && settings_.flip_blend > 0.0)

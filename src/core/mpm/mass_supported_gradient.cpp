@@ -1,5 +1,6 @@
 #include "cloth_hair_sim/core/mpm/mass_supported_gradient.h"
 
+#include <algorithm>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -54,20 +55,46 @@ void massSupportedGradients(const SparseGrid& grid, const Eigen::Vector3d& posit
                      std::to_string(degree));
 }
 
+void tabulateMassSupportedGradients(const SparseGrid& grid,
+                                    const std::vector<Eigen::Vector3d>& positions, int degree,
+                                    const SupportNodes& support,
+                                    MassSupportedGradientTable& table) {
+  const int np = static_cast<int>(positions.size());
+  support.check(np, degree);
+  table.per_particle = support.per_particle;
+  table.g.resize(static_cast<std::size_t>(np) * support.per_particle);
+  tbb::parallel_for(0, np, [&](int p) {
+    thread_local std::vector<Eigen::Vector3d> g;
+    massSupportedGradients(grid, positions[p], degree, support.of(p), g);
+    std::copy(g.begin(), g.end(), table.g.begin() + static_cast<std::ptrdiff_t>(p) * g.size());
+  });
+}
+
 void interpolateMassSupportedGradient(const SparseGrid& grid,
                                       const std::vector<Eigen::Vector3d>& node_values,
                                       const std::vector<Eigen::Vector3d>& positions, int degree,
                                       const SupportNodes& support,
                                       std::vector<Eigen::Matrix3d>& result) {
+  MassSupportedGradientTable table;
+  tabulateMassSupportedGradients(grid, positions, degree, support, table);
+  interpolateMassSupportedGradient(grid, node_values, support, table, result);
+}
+
+void interpolateMassSupportedGradient(const SparseGrid& grid,
+                                      const std::vector<Eigen::Vector3d>& node_values,
+                                      const SupportNodes& support,
+                                      const MassSupportedGradientTable& table,
+                                      std::vector<Eigen::Matrix3d>& result) {
   if (static_cast<int>(node_values.size()) != grid.size())
     throw InputError("mass-supported gradient: " + std::to_string(node_values.size()) +
                      " node values for " + std::to_string(grid.size()) + " active nodes");
-  support.check(static_cast<int>(positions.size()), degree);
-  result.resize(positions.size());
-  tbb::parallel_for(0, static_cast<int>(positions.size()), [&](int p) {
-    thread_local std::vector<Eigen::Vector3d> g;
-    massSupportedGradients(grid, positions[p], degree, support.of(p), g);
+  if (table.per_particle != support.per_particle || table.numParticles() != support.numParticles())
+    throw InputError("mass-supported gradient: a table of " + std::to_string(table.numParticles()) +
+                     " particles for supports of " + std::to_string(support.numParticles()));
+  result.resize(table.numParticles());
+  tbb::parallel_for(0, table.numParticles(), [&](int p) {
     const int* nodes = support.of(p);
+    const Eigen::Vector3d* g = table.of(p);
     Eigen::Matrix3d grad = Eigen::Matrix3d::Zero();
     for (int n = 0; n < support.per_particle; ++n) grad += node_values[nodes[n]] * g[n].transpose();
     result[p] = grad;

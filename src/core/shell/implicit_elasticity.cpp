@@ -74,6 +74,11 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
     for (int k : st)
       for (int l : st) slot_.push_back(block(owner[k], owner[l]));
   }
+  for (int f = 0; f < static_cast<int>(fibres_.size()); ++f)
+    if (f == 0 || points_[fibres_[f].first].stencil().points !=
+                      points_[fibres_[f - 1].first].stencil().points)
+      groups_.push_back(f);
+  groups_.push_back(static_cast<int>(fibres_.size()));
   diagonal_block_.resize(n_);
   for (int p = 0; p < n_; ++p) diagonal_block_[p] = block(p, p);
 
@@ -114,24 +119,37 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
   tbb::enumerable_thread_specific<std::vector<double>> local(
       [nv] { return std::vector<double>(nv, 0.0); });
   const std::vector<int>& owner = links_.owner;
-  tbb::parallel_for(0, static_cast<int>(fibres_.size()), [&](int f) {
-    const SurfaceStencil& st = points_[fibres_[f].first].stencil();
-    const FibreHessian H =
-        projectedFibreHessian(points_, fibres_[f], material, MidSurfaceFrame::sums(st, x));
-    const std::vector<double>* c[5] = {&st.du, &st.dv, &st.duu, &st.duv, &st.dvv};
-    const int S = st.size();
+  tbb::parallel_for(0, static_cast<int>(groups_.size()) - 1, [&](int group) {
+    // The fibres of one face share its stencil points: their blocks are summed in a dense local
+    // lower triangle and scattered once per face, not once per fibre.
+    const int first = groups_[group], last = groups_[group + 1];
+    const std::vector<int>& points = points_[fibres_[first].first].stencil().points;
+    const int S = static_cast<int>(points.size());
+    thread_local std::vector<Mat3> K;
+    K.assign(static_cast<std::size_t>(S) * S, Mat3::Zero());
+    for (int f = first; f < last; ++f) {
+      const SurfaceStencil& st = points_[fibres_[f].first].stencil();
+      const FibreHessian H =
+          projectedFibreHessian(points_, fibres_[f], material, MidSurfaceFrame::sums(st, x));
+      const std::vector<double>* c[5] = {&st.du, &st.dv, &st.duu, &st.duv, &st.dvv};
+      for (int k = 0; k < S; ++k) {
+        // T_k = sum_a c_a[k] H_{a.}, then block (k, l) = sum_b T_k,b c_b[l].
+        Eigen::Matrix<double, 3, 15> T = Eigen::Matrix<double, 3, 15>::Zero();
+        for (int a = 0; a < 5; ++a) T += (*c[a])[k] * H.block<3, 15>(3 * a, 0);
+        for (int l = 0; l <= k; ++l) {
+          Mat3& B = K[k * S + l];
+          for (int b = 0; b < 5; ++b) B += (*c[b])[l] * T.block<3, 3>(0, 3 * b);
+        }
+      }
+    }
     std::vector<double>& v = local.local();
-    const int* slot = &slot_[slot_start_[f]];
+    const int* slot = &slot_[slot_start_[first]];
     for (int k = 0; k < S; ++k) {
-      // T_k = sum_a c_a[k] H_{a.}, then block (k, l) = sum_b T_k,b c_b[l].
-      Eigen::Matrix<double, 3, 15> T = Eigen::Matrix<double, 3, 15>::Zero();
-      for (int a = 0; a < 5; ++a) T += (*c[a])[k] * H.block<3, 15>(3 * a, 0);
-      const int pk = st.points[k];
+      const int pk = points[k];
       // Block (l, k) is block (k, l) transposed: half the pairs suffice.
       for (int l = 0; l <= k; ++l) {
-        Mat3 B = Mat3::Zero();
-        for (int b = 0; b < 5; ++b) B += (*c[b])[l] * T.block<3, 3>(0, 3 * b);
-        const int pl = st.points[l];
+        Mat3 B = K[k * S + l];
+        const int pl = points[l];
         if (owner[pk] != pk) B = links_.map[pk].transpose() * B;
         if (owner[pl] != pl) B = B * links_.map[pl];
         double* dst = &v[9 * static_cast<std::size_t>(slot[k * S + l])];

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 
+#include "cloth_hair_sim/core/mpm/mass_supported_gradient.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
 #include "cloth_hair_sim/core/mpm/support_nodes.h"
 
@@ -23,11 +24,10 @@ void scatterPointForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& po
 // grid motion stretches. With t_p = -V_p dchi/da (the force conjugate to the fibre), node i
 // receives (g_ip . a^n_p) t_p, with g the weight gradients restricted to the nodes that carry
 // mass (mass_supported_gradient.h): the fibres' particles carry none, and a force on a massless
-// node would be lost.
-void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& positions,
-                        const std::vector<Eigen::Vector3d>& fibres,
-                        const std::vector<Eigen::Vector3d>& fibre_forces, int degree,
-                        const SupportNodes& support);
+// node would be lost. `gradients` holds the particles' g_ip (tabulateMassSupportedGradients).
+void scatterFibreForces(SparseGrid& grid, const std::vector<Eigen::Vector3d>& fibres,
+                        const std::vector<Eigen::Vector3d>& fibre_forces,
+                        const SupportNodes& support, const MassSupportedGradientTable& gradients);
 
 // Han (3.9) for a continuum discretised by particles (type (i)): with V_p^0 the initial volume and
 // P(F_p) the first Piola-Kirchhoff stress, -dPsi/dx_i = -sum_p V_p^0 P(F_p) F_p^T grad w_ip.

@@ -13,6 +13,7 @@
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 #include "cloth_hair_sim/core/mpm/hencky_solid.h"
 #include "cloth_hair_sim/core/mpm/layer_proximity.h"
+#include "cloth_hair_sim/core/mpm/mass_supported_gradient.h"
 #include "cloth_hair_sim/core/mpm/mpm_particles.h"
 #include "cloth_hair_sim/core/mpm/particle_projection.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
@@ -307,6 +308,9 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   std::vector<std::array<int, 3>> display_triangles_;
 
   mpm::SparseGrid grid_;
+  // The contact particles' mass-supported weight gradients, from transferToGrid to
+  // transferFromGrid.
+  mpm::MassSupportedGradientTable fibre_weight_gradients_;
   std::vector<mpm::SupportNodes> supports_;     // of control_, contact_.p, solid_ (transferToGrid)
   std::vector<Eigen::Vector3d> control_force_;  // -dPsi/dx_p on control points this step
   std::vector<Eigen::Vector3d> kl_gradient_;    // dPsi^KL/dx_p

@@ -22,12 +22,34 @@ namespace chs::mpm {
 void massSupportedGradients(const SparseGrid& grid, const Eigen::Vector3d& position, int degree,
                             const int* nodes, std::vector<Eigen::Vector3d>& gradients);
 
+// The g_ip of every particle of a set, per_particle per particle in its support's node order.
+// They depend only on the positions and the grid's masses, which hold still from the transfer to
+// the grid to the transfer back: an implicit contact solve evaluates its forces 5-15 times a
+// step with one table.
+struct MassSupportedGradientTable {
+  int per_particle = 0;
+  std::vector<Eigen::Vector3d> g;
+  const Eigen::Vector3d* of(int particle) const { return g.data() + per_particle * particle; }
+  int numParticles() const {
+    return per_particle > 0 ? static_cast<int>(g.size()) / per_particle : 0;
+  }
+};
+void tabulateMassSupportedGradients(const SparseGrid& grid,
+                                    const std::vector<Eigen::Vector3d>& positions, int degree,
+                                    const SupportNodes& support, MassSupportedGradientTable& table);
+
 // (grad u)_p = sum' u_i (x) g_ip for the particles at `positions` (e.g. the velocity gradient
 // that moves the contact fibres, Han (5.44)), one matrix per particle.
 void interpolateMassSupportedGradient(const SparseGrid& grid,
                                       const std::vector<Eigen::Vector3d>& node_values,
                                       const std::vector<Eigen::Vector3d>& positions, int degree,
                                       const SupportNodes& support,
+                                      std::vector<Eigen::Matrix3d>& gradients);
+// The same from a table of the particles' g_ip.
+void interpolateMassSupportedGradient(const SparseGrid& grid,
+                                      const std::vector<Eigen::Vector3d>& node_values,
+                                      const SupportNodes& support,
+                                      const MassSupportedGradientTable& table,
                                       std::vector<Eigen::Matrix3d>& gradients);
 
 }  // namespace chs::mpm

@@ -101,6 +101,9 @@ class ImplicitElasticity {
   std::vector<int> block_start_, block_col_;
   // Per fibre: the block index of each (k, l) pair of its stencil, k-major, from slot_start_[f].
   std::vector<int> slot_start_, slot_;
+  // Runs of consecutive fibres over the same stencil points (a face's): fibres groups_[g] to
+  // groups_[g + 1] - 1.
+  std::vector<int> groups_;
   std::vector<int> diagonal_block_;  // of each point's owner row
   std::vector<int> value_index_;     // 9 per block: its entries' places in matrix_.valuePtr()
   Eigen::SparseMatrix<double> matrix_;
