@@ -24,7 +24,9 @@ using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
 struct ImplicitElasticity::Factor {
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+  // The matrix holds both triangles; CHOLMOD reads the upper, which its numeric factorisation
+  // transposes once less than the lower (solver/energy_newton.cpp).
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt;
   bool analyzed = false;
 };
 

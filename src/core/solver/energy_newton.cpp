@@ -28,7 +28,9 @@ class ModifiedHessian {
   // definite; false if even mu = kMaxShift fails.
   bool factorize(const Eigen::SparseMatrix<double>& K) {
     // A problem with a potential has a symmetric tangent (ShellElement's, the penalty's): its
-    // lower triangle, which CHOLMOD reads, is K_s.
+    // upper triangle, which CHOLMOD reads, is K_s. CHOLMOD gets the upper triangle because its
+    // numeric factorisation transposes a lower one once more (cholmod_transpose_sym: 7.6 % of
+    // the 50 x 50 on the disc drape with the lower, 4.2 % with the upper).
     H_ = K;
     diag_ = H_.diagonal();
     if (!analyzed_) {
@@ -51,7 +53,7 @@ class ModifiedHessian {
  private:
   Eigen::SparseMatrix<double> H_;
   Eigen::VectorXd diag_;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt_;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt_;
   bool analyzed_ = false;
   double mu_ = 0.0;
 };
