@@ -748,6 +748,7 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
         return true;
       }
       insertGarment(req.name, std::move(g));
+      refreshCatalogue();
       res.message = loaded;
     } else {
       // The world is stepping: the garment joins it at the next WorldLock. Its name is checked
@@ -785,7 +786,6 @@ void SimNode::insertGarment(const std::string& name, Garment g) {
   g.colour = next_colour_++;
   g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());
   garments_.emplace(name, std::move(g));
-  refreshCatalogue();
   substep_cost_ = 0.0;  // the world grew: the next update probes its cost
 }
 
@@ -795,6 +795,9 @@ void SimNode::applyPendingEdits() {
     std::lock_guard<std::mutex> lock(pending_mutex_);
     edits.swap(pending_edits_);
   }
+  if (edits.empty()) return;
+  // The catalogue is refreshed once, after the whole batch: refreshed after each edit, it would
+  // list the batch's later removals again (in garments_ still, out of pending_edits_ already).
   for (PendingEdit& edit : edits) {
     if (!edit.garment) {
       const std::vector<std::string> dropped = eraseGarment(edit.name);
@@ -810,15 +813,14 @@ void SimNode::applyPendingEdits() {
       // The load had answered success: say loudly that it was dropped after all.
       ROS_ERROR("garment '%s': dropped before it joined the world: %s", edit.name.c_str(),
                 e.what());
-      refreshCatalogue();
     }
   }
+  refreshCatalogue();
 }
 
 std::vector<std::string> SimNode::eraseGarment(const std::string& name) {
   garments_.erase(name);
   world_.remove(name);
-  refreshCatalogue();
   return dropGrasps(name);
 }
 
@@ -849,6 +851,7 @@ bool SimNode::removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
   applyPendingEdits();
   res.success = garments_.count(req.name) > 0;
   const std::vector<std::string> dropped = eraseGarment(req.name);
+  refreshCatalogue();
   res.message = who + (res.success ? "removed" : "not loaded");
   if (!dropped.empty()) res.message += "; grasps released: " + joined(dropped);
   return true;

@@ -183,9 +183,11 @@ class SimNode {
   // Under mutex_.
   void applyPendingEdits();
   // Under mutex_: puts a built garment into garments_ and world_. Throws chs::InputError when
-  // the world refuses it (grid spacing or kernel other than the world's).
+  // the world refuses it (grid spacing or kernel other than the world's). The caller refreshes
+  // the catalogue.
   void insertGarment(const std::string& name, Garment g);
   // Under mutex_: takes a garment out of garments_ and world_ and drops its grasps (their names).
+  // The caller refreshes the catalogue.
   std::vector<std::string> eraseGarment(const std::string& name);
   // What ~list_garments answers, under its own mutex: the list is rebuilt from garments_,
   // hairs_ (under mutex_) and the pending garments wherever they change, so that listing them
