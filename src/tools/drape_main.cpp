@@ -105,12 +105,13 @@ int run(int argc, char** argv) {
   if (result.wall_time_s <= 0.0)
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // An adaptive solve answers on its background mesh.
+  const chs::QuadMesh& mesh = result.refined_mesh ? *result.refined_mesh : scene.problem.mesh;
   const std::vector<Eigen::Vector3d> positions =
-      result.positions.size() == scene.problem.mesh.vertices.size() ? result.positions
-                                                                    : scene.problem.mesh.vertices;
+      result.positions.size() == mesh.vertices.size() ? result.positions : mesh.vertices;
 
-  chs::writeObj((dir / scene.output.obj).string(), scene.problem.mesh, positions);
-  chs::writePly((dir / scene.output.ply).string(), scene.problem.mesh, positions);
+  chs::writeObj((dir / scene.output.obj).string(), mesh, positions);
+  chs::writePly((dir / scene.output.ply).string(), mesh, positions);
 
   chs::ReportContext context;
   context.scene_name = scene.name;
@@ -123,15 +124,19 @@ int run(int argc, char** argv) {
   context.material = scene.problem.fabric ? chs::materialList(*scene.problem.fabric)
                                           : chs::materialList(scene.problem.material);
   for (const auto& c : scene.problem.colliders) context.colliders.push_back(c->describe());
-  context.vertices = scene.problem.mesh.numVertices();
-  context.quads = scene.problem.mesh.numQuads();
-  if (result.positions.size() != scene.problem.mesh.vertices.size())
+  context.vertices = mesh.numVertices();
+  context.quads = mesh.numQuads();
+  if (result.refined_mesh)
+    context.notes.push_back("adaptive mesh: " + std::to_string(result.peak_active_nodes) +
+                            " nodes in use at most; meshes show the background mesh of " +
+                            std::to_string(mesh.numVertices()) + " nodes");
+  if (result.positions.size() != mesh.vertices.size())
     context.notes.push_back("the solver returned no positions: meshes show the reference state");
 
   if (!scene.colliders.empty()) {
     try {
       const chs::DrapeMetrics m =
-          chs::measureDrape(scene.problem.mesh, positions, chs::supportOf(scene.colliders.front()));
+          chs::measureDrape(mesh, positions, chs::supportOf(scene.colliders.front()));
       context.drape_metrics = {{"drape_coefficient", m.drape_coefficient},
                                {"folds", m.folds},
                                {"lowest_z", m.lowest_z},
@@ -171,8 +176,7 @@ int run(int argc, char** argv) {
                              : 0.0);
   });
   picture("drape picture", [&] {
-    chs::plotDrape(scene.problem.mesh, positions, scene.colliders,
-                   (dir / scene.output.picture).string(), title);
+    chs::plotDrape(mesh, positions, scene.colliders, (dir / scene.output.picture).string(), title);
   });
   chs::writeDrapeReport((dir / scene.output.report).string(), result, context);
 

@@ -390,6 +390,10 @@ SolidShellSettings parseSolidShell(const YAML::Node& node) {
   o.end_time = s.positive("end_time", o.end_time);
   o.contact_stiffness = s.number("contact_stiffness", o.contact_stiffness);
   o.progress_interval = s.integer("progress_interval", o.progress_interval, 1);
+  o.adaptive_levels = s.integer("adaptive_levels", o.adaptive_levels, 0);
+  o.refine_threshold = s.number("refine_threshold", o.refine_threshold);
+  o.merge_margin = s.number("merge_margin", o.merge_margin);
+  o.adapt_interval = s.integer("adapt_interval", o.adapt_interval, 1);
   s.done();
   try {
     validateSolidShellSettings(o);
@@ -566,7 +570,11 @@ std::vector<std::pair<std::string, double>> settingsList(const SolidShellSetting
           {"mass_scaling", s.mass_scaling},
           {"time_step", s.time_step},
           {"end_time", s.end_time},
-          {"contact_stiffness", s.contact_stiffness}};
+          {"contact_stiffness", s.contact_stiffness},
+          {"adaptive_levels", s.adaptive_levels},
+          {"refine_threshold", s.refine_threshold},
+          {"merge_margin", s.merge_margin},
+          {"adapt_interval", s.adapt_interval}};
 }
 
 std::vector<std::pair<std::string, double>> materialList(const WovenFabric& f) {

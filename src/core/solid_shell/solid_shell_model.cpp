@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -23,17 +24,8 @@ SolidShellRigidity isotropicRigidity(const ShellMaterial& m) {
   return c;
 }
 
-SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain thickness_strain,
-                                 double mu, double contact_stiffness, bool centred_band)
-    : problem_(problem), centred_band_(centred_band) {
+SolidShellMesh solidShellMesh(const DrapeProblem& problem) {
   const QuadMesh& mesh = problem.mesh;
-  if (problem.material.kawabata)
-    throw InputError(
-        "solid_shell: the Kawabata bending law is not supported (linear bending only)");
-  for (const auto& l : problem.bc.loads)
-    if (l.moment.norm() > 0.0)
-      throw InputError("solid_shell: nodal moments are not supported (vertex " +
-                       std::to_string(l.vertex) + "); give forces");
   const int nv = mesh.numVertices();
   // Reference directors: area-weighted vertex normals of the flat mesh, unit length (X_n of
   // eq. (1) is normalised).
@@ -43,11 +35,40 @@ SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain th
                                   .cross(mesh.vertices[q[3]] - mesh.vertices[q[1]]);
     for (int v : q) normal[v] += c;
   }
-  X_ = mesh.vertices;
-  Xn_.resize(nv);
-  for (int v = 0; v < nv; ++v) Xn_[v] = normal[v].normalized();
+  SolidShellMesh m;
+  m.X = mesh.vertices;
+  m.Xn.resize(nv);
+  for (int v = 0; v < nv; ++v) m.Xn[v] = normal[v].normalized();
+  m.elements = mesh.quads;
+  m.bc = problem.bc;
+  return m;
+}
+
+SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain thickness_strain,
+                                 double mu, double contact_stiffness, bool centred_band)
+    : SolidShellModel(problem, solidShellMesh(problem), thickness_strain, mu, contact_stiffness,
+                      centred_band) {}
+
+SolidShellModel::SolidShellModel(const DrapeProblem& problem, SolidShellMesh mesh,
+                                 ThicknessStrain thickness_strain, double mu,
+                                 double contact_stiffness, bool centred_band)
+    : problem_(problem), centred_band_(centred_band) {
+  if (problem.material.kawabata)
+    throw InputError(
+        "solid_shell: the Kawabata bending law is not supported (linear bending only)");
+  for (const auto& l : mesh.bc.loads)
+    if (l.moment.norm() > 0.0)
+      throw InputError("solid_shell: nodal moments are not supported (vertex " +
+                       std::to_string(l.vertex) + "); give forces");
+  const int nv = static_cast<int>(mesh.X.size());
+  X_ = std::move(mesh.X);
+  Xn_ = std::move(mesh.Xn);
   u_.assign(nv, Eigen::Vector3d::Zero());
   un_.assign(nv, Eigen::Vector3d::Zero());
+  active_.assign(nv, false);
+  for (const auto& q : mesh.elements)
+    for (int v : q)
+      if (v >= 0) active_[v] = true;
 
   const bool woven = problem.fabric.has_value();
   const SolidShellRigidity rigidity = [&] {
@@ -62,29 +83,40 @@ SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain th
   const double density = woven ? problem.fabric->areal_density : problem.material.areal_density;
   const double h = woven ? problem.fabric->thickness : problem.material.thickness;
   std::vector<double> nodal_mass(nv, 0.0);
-  elements_.reserve(mesh.numQuads());
-  for (int e = 0; e < mesh.numQuads(); ++e) {
-    const auto& q = mesh.quads[e];
+  elements_.reserve(mesh.elements.size());
+  for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
+    const auto& q = mesh.elements[e];
+    const int corners = q[3] < 0 ? 3 : 4;
     std::array<Eigen::Vector3d, 4> X, Xn;
-    for (int i = 0; i < 4; ++i) X[i] = X_[q[i]], Xn[i] = Xn_[q[i]];
+    for (int i = 0; i < corners; ++i) X[i] = X_[q[i]], Xn[i] = Xn_[q[i]];
     const Eigen::Vector3d axis = woven ? problem.fabric->warp : Eigen::Vector3d(X[1] - X[0]);
-    elements_.emplace_back(q, X, Xn, axis, rigidity, thickness_strain, mu);
+    if (corners == 4)
+      elements_.emplace_back(q, X, Xn, axis, rigidity, thickness_strain, mu);
+    else
+      elements_.emplace_back(std::array<int, 3>{q[0], q[1], q[2]},
+                             std::array<Eigen::Vector3d, 3>{X[0], X[1], X[2]},
+                             std::array<Eigen::Vector3d, 3>{Xn[0], Xn[1], Xn[2]}, axis, rigidity,
+                             thickness_strain, mu);
     if (!elements_.back().isValid())
-      throw InputError("quad " + std::to_string(e) +
+      throw InputError((corners == 4 ? "quad " : "triangle ") + std::to_string(e) +
                        (woven ? " is degenerate, folded over or normal to the warp direction"
                               : " is degenerate or folded over"));
-    for (int i = 0; i < 4; ++i) nodal_mass[q[i]] += density * elements_.back().nodalAreas()[i];
+    for (int i = 0; i < corners; ++i)
+      nodal_mass[q[i]] += density * elements_.back().nodalAreas()[i];
   }
   weight_.resize(nv);
   for (int v = 0; v < nv; ++v) weight_[v] = nodal_mass[v] * problem.gravity;
-  for (const auto& l : problem.bc.loads) weight_[l.vertex] += l.force;
+  for (const auto& l : mesh.bc.loads) weight_[l.vertex] += l.force;
 
   dof_.assign(6 * nv, 0);
-  for (int v : problem.bc.clamped)
+  for (int v = 0; v < nv; ++v)
+    if (!active_[v])
+      for (int k = 0; k < 6; ++k) dof_[6 * v + k] = -1;
+  for (int v : mesh.bc.clamped)
     for (int k = 0; k < 6; ++k) dof_[6 * v + k] = -1;
-  for (int v : problem.bc.pinned)
+  for (int v : mesh.bc.pinned)
     for (int k = 0; k < 3; ++k) dof_[6 * v + k] = -1;
-  for (const auto& f : problem.bc.fixed_components) dof_[6 * f.vertex + f.axis] = -1;
+  for (const auto& f : mesh.bc.fixed_components) dof_[6 * f.vertex + f.axis] = -1;
   for (int& d : dof_)
     if (d == 0) d = num_free_++;
   mass_.setZero(num_free_);
@@ -103,9 +135,11 @@ SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain th
   for (const auto& x : X_) box.extend(x);
   length_scale_ = std::max(box.diagonal().norm(), 1e-12);
   double edges = 0.0;
-  for (const auto& q : mesh.quads)
-    for (int i = 0; i < 4; ++i) edges += (X_[q[i]] - X_[q[(i + 1) % 4]]).norm();
-  smoothing_ = 1e-4 * (mesh.quads.empty() ? 1.0 : edges / (4.0 * mesh.numQuads()));
+  int num_edges = 0;
+  for (const auto& el : elements_)
+    for (int i = 0; i < el.corners(); ++i, ++num_edges)
+      edges += (X_[el.nodes()[i]] - X_[el.nodes()[(i + 1) % el.corners()]]).norm();
+  smoothing_ = 1e-4 * (num_edges == 0 ? 1.0 : edges / num_edges);
   // As the FEM shell: a hundred times the (largest) membrane rigidity.
   k_contact_ =
       contact_stiffness > 0.0 ? contact_stiffness : 100.0 * rigidity.membrane.diagonal().maxCoeff();
@@ -114,8 +148,8 @@ SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain th
   std::vector<Eigen::Triplet<double>> trip;
   auto free = [&](int v, int k) { return dof_[6 * v + k]; };
   for (const auto& el : elements_)
-    for (int a = 0; a < 24; ++a)
-      for (int b = 0; b < 24; ++b) {
+    for (int a = 0; a < 6 * el.corners(); ++a)
+      for (int b = 0; b < 6 * el.corners(); ++b) {
         const int r = free(el.nodes()[a / 6], a % 6), c = free(el.nodes()[b / 6], b % 6);
         if (r >= 0 && c >= 0) trip.emplace_back(r, c, 0.0);
       }
@@ -126,8 +160,10 @@ SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain th
   slots_.resize(elements_.size());
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const auto& q = elements_[e].nodes();
-    for (int a = 0; a < 24; ++a)
-      for (int b = 0; b < 24; ++b)
+    slots_[e].fill(-1);
+    const int n = 6 * elements_[e].corners();
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b)
         slots_[e][a * 24 + b] = slot(free(q[a / 6], a % 6), free(q[b / 6], b % 6));
   }
   node_slots_.resize(nv);
@@ -141,7 +177,8 @@ SolidShellModel::SolidShellModel(const DrapeProblem& problem, ThicknessStrain th
 SolidShellState SolidShellModel::elementState(int e) const {
   const auto& q = elements_[e].nodes();
   SolidShellState s;
-  for (int i = 0; i < 4; ++i) s[2 * i] = u_[q[i]], s[2 * i + 1] = un_[q[i]];
+  for (int i = 0; i < 4; ++i) s[2 * i] = s[2 * i + 1] = Eigen::Vector3d::Zero();
+  for (int i = 0; i < elements_[e].corners(); ++i) s[2 * i] = u_[q[i]], s[2 * i + 1] = un_[q[i]];
   return s;
 }
 
@@ -162,7 +199,7 @@ double SolidShellModel::assemble(Eigen::VectorXd& R, Eigen::SparseMatrix<double>
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     energy += ue_[e];
     const auto& q = elements_[e].nodes();
-    for (int a = 0; a < 24; ++a) {
+    for (int a = 0; a < 6 * elements_[e].corners(); ++a) {
       const int r = dof_[6 * q[a / 6] + a % 6];
       if (r >= 0) R[r] -= fe_[e][a];
     }
@@ -172,6 +209,7 @@ double SolidShellModel::assemble(Eigen::VectorXd& R, Eigen::SparseMatrix<double>
   }
   active_contacts_ = 0;
   for (std::size_t v = 0; v < X_.size(); ++v) {
+    if (!active_[v]) continue;
     Eigen::Vector3d f = weight_[v];
     Eigen::Matrix3d k = Eigen::Matrix3d::Zero();
     for (const auto& surface : problem_.colliders) {
@@ -227,6 +265,14 @@ void SolidShellModel::setFreeState(const Eigen::VectorXd& D) {
       if (dof_[6 * v + k] >= 0) (k < 3 ? u_[v][k] : un_[v][k - 3]) = D[dof_[6 * v + k]];
 }
 
+void SolidShellModel::setDisplacements(const std::vector<Eigen::Vector3d>& u,
+                                       const std::vector<Eigen::Vector3d>& un) {
+  if (u.size() != u_.size() || un.size() != un_.size())
+    throw std::invalid_argument("SolidShellModel::setDisplacements: one value per node");
+  u_ = u;
+  un_ = un;
+}
+
 std::vector<Eigen::Vector3d> SolidShellModel::positions() const {
   std::vector<Eigen::Vector3d> x(X_.size());
   for (std::size_t v = 0; v < X_.size(); ++v) x[v] = X_[v] + u_[v];
@@ -249,7 +295,7 @@ int SolidShellModel::reversedDirectors() const {
 std::vector<ContactReaction> SolidShellModel::reactions() const {
   std::vector<ContactReaction> out;
   for (std::size_t v = 0; v < X_.size(); ++v)
-    for (std::size_t s = 0; s < problem_.colliders.size(); ++s) {
+    for (std::size_t s = 0; s < problem_.colliders.size() && active_[v]; ++s) {
       const SurfaceProjection p = problem_.colliders[s]->project(X_[v] + u_[v]);
       const Penalty f = penalty(p.gap);
       if (f.force > 0.0)

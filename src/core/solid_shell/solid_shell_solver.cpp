@@ -1,13 +1,17 @@
 #include "cloth_hair_sim/core/solid_shell/solid_shell_solver.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include <Eigen/Geometry>
 #include <Eigen/UmfPackSupport>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/solid_shell/adaptive_mesh.h"
 #include "cloth_hair_sim/core/solid_shell/solid_shell_model.h"
 
 namespace chs {
@@ -40,6 +44,84 @@ void report(Run& run, const SolidShellModel& model, int it, double residual, boo
   e.active_contacts = model.activeContacts();
   run.history.push_back(e);
   if (progress) progress(e);
+}
+
+// The adaptive mesh of seed 001 section 5 and the model on its active elements.
+struct Adaptivity {
+  AdaptiveQuadMesh mesh;
+  BoundaryConditions bc;  // on the background nodes
+  int adaptations = 0, peak_active_nodes = 0;
+};
+
+std::unique_ptr<SolidShellModel> buildModel(const DrapeProblem& problem,
+                                            const SolidShellSettings& s, const Adaptivity* a) {
+  const bool centred = s.scheme == SolidShellScheme::kStatic;
+  if (!a)
+    return std::make_unique<SolidShellModel>(problem, s.thickness_strain, s.mu, s.contact_stiffness,
+                                             centred);
+  return std::make_unique<SolidShellModel>(problem, a->mesh.activeMesh(a->bc), s.thickness_strain,
+                                           s.mu, s.contact_stiffness, centred);
+}
+
+// Eqs. (25)-(26) per leaf, from the largest bending strain of its elements.
+std::vector<int> adaptFlags(const AdaptiveQuadMesh& mesh, const SolidShellModel& model,
+                            const SolidShellSettings& s) {
+  const auto elements = mesh.elements();
+  std::vector<double> bend(mesh.leaves().size(), 0.0);
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const double b = model.elements()[e].bendingStrainNorm(model.elementState(static_cast<int>(e)));
+    bend[elements[e].leaf] = std::max(bend[elements[e].leaf], b);
+  }
+  std::vector<int> flags(bend.size(), 0);
+  for (std::size_t k = 0; k < bend.size(); ++k) {
+    const double L = mesh.sideLength(mesh.leaves()[k]);
+    if (bend[k] * L > s.refine_threshold)
+      flags[k] = 1;
+    else if (bend[k] * 2.0 * L <= s.refine_threshold - s.merge_margin)
+      flags[k] = -1;
+  }
+  return flags;
+}
+
+// One adaptation; when the mesh changed, the model is rebuilt on it with the nodal state carried
+// over (the nodes switched on get theirs by the discrete Kirchhoff condition) and the free states
+// in `states` (the current one first) re-expressed on its unknowns.
+bool adapt(Adaptivity& a, std::unique_ptr<SolidShellModel>& model, const DrapeProblem& problem,
+           const SolidShellSettings& s, std::vector<Eigen::VectorXd*> states) {
+  const std::vector<bool> was_active = a.mesh.activeNodes();
+  if (!a.mesh.adapt(adaptFlags(a.mesh, *model, s))) return false;
+  std::vector<std::vector<Eigen::Vector3d>> u(states.size()), un(states.size());
+  for (std::size_t k = states.size(); k-- > 0;) {  // the current state last: it stays set
+    model->setFreeState(*states[k]);
+    u[k] = model->displacements();
+    un[k] = model->directorDisplacements();
+    a.mesh.fillSwitchedOnNodes(was_active, u[k], un[k]);
+  }
+  model = buildModel(problem, s, &a);
+  for (std::size_t k = states.size(); k-- > 0;) {
+    model->setDisplacements(u[k], un[k]);
+    *states[k] = model->freeState();
+  }
+  ++a.adaptations;
+  a.peak_active_nodes = std::max(a.peak_active_nodes, a.mesh.numActiveNodes());
+  return true;
+}
+
+// omega_max^2 <= max_i sum_j |K_ij| / sqrt(M_i M_j) (Gershgorin on M^-1/2 K M^-1/2), with the
+// contact stiffness on every translation that may touch a collider; half the stable step.
+double stableStep(SolidShellModel& model, const Eigen::VectorXd& M, bool has_colliders,
+                  double contact_stiffness) {
+  Eigen::VectorXd R;
+  Eigen::SparseMatrix<double> K;
+  model.assemble(R, &K);
+  Eigen::VectorXd row = Eigen::VectorXd::Zero(model.size());
+  for (int c = 0; c < K.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
+      row[it.row()] += std::abs(it.value()) / std::sqrt(M[it.row()] * M[it.col()]);
+  if (has_colliders)
+    for (int i = 0; i < model.size(); ++i)
+      if (model.isTranslation(i)) row[i] += contact_stiffness / M[i];
+  return 0.5 * 2.0 / std::sqrt(row.maxCoeff());
 }
 
 // Seed 001 eqs. (16)-(18): Newton-Raphson on the full load with the refinement scaled by
@@ -95,62 +177,72 @@ Run solveStatic(SolidShellModel& model, const SolidShellSettings& s, double free
   }
 }
 
-// Seed 001 eq. (23): central differences with the lumped mass and Rayleigh damping alpha M.
-Run solveDynamic(SolidShellModel& model, const SolidShellSettings& s, bool has_colliders,
-                 double contact_stiffness, const ProgressCallback& progress) {
+// Seed 001 eq. (23): central differences with the lumped mass and Rayleigh damping alpha M; with
+// adaptivity, the mesh adapts every adapt_interval steps and once more before the run may end.
+Run solveDynamic(std::unique_ptr<SolidShellModel>& model, const DrapeProblem& problem,
+                 const SolidShellSettings& s, double contact_stiffness, Adaptivity* adaptivity,
+                 const ProgressCallback& progress) {
   Run run;
-  const Eigen::VectorXd M = s.mass_scaling * model.mass();
+  const bool has_colliders = !problem.colliders.empty();
+  Eigen::VectorXd M = s.mass_scaling * model->mass();
   Eigen::VectorXd R;
-  double dt = s.time_step;
-  if (dt <= 0.0) {
-    // omega_max^2 <= max_i sum_j |K_ij| / sqrt(M_i M_j) (Gershgorin on M^-1/2 K M^-1/2), with
-    // the contact stiffness on every translation that may touch a collider.
-    Eigen::SparseMatrix<double> K;
-    model.assemble(R, &K);
-    Eigen::VectorXd row = Eigen::VectorXd::Zero(model.size());
-    for (int c = 0; c < K.outerSize(); ++c)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
-        row[it.row()] += std::abs(it.value()) / std::sqrt(M[it.row()] * M[it.col()]);
-    if (has_colliders)
-      for (int i = 0; i < model.size(); ++i)
-        if (model.isTranslation(i)) row[i] += contact_stiffness / M[i];
-    dt = 0.5 * 2.0 / std::sqrt(row.maxCoeff());
-  }
-  const double a = 1.0 / (dt * dt), b = 0.5 * s.damping / dt;
-  Eigen::VectorXd D = model.freeState(), previous = D;
-  const double load = std::max(model.loadNorm(), 1e-300);
-  const int steps = static_cast<int>(std::ceil(s.end_time / dt));
+  double dt =
+      s.time_step > 0.0 ? s.time_step : stableStep(*model, M, has_colliders, contact_stiffness);
+  double a = 1.0 / (dt * dt), b = 0.5 * s.damping / dt;
+  Eigen::VectorXd D = model->freeState(), previous = D;
+  const double load = std::max(model->loadNorm(), 1e-300);
+  double t = 0.0;
+  // After an adaptation: the new mesh's masses and, unless given, its stable step, keeping the
+  // velocity (D - previous) / dt.
+  auto adapted = [&] {
+    M = s.mass_scaling * model->mass();
+    if (s.time_step > 0.0) return;
+    const double next = stableStep(*model, M, has_colliders, contact_stiffness);
+    previous = D - (next / dt) * (D - previous);
+    dt = next;
+    a = 1.0 / (dt * dt), b = 0.5 * s.damping / dt;
+  };
   for (int n = 0;; ++n) {
-    model.assemble(R, nullptr);
+    if (adaptivity && n > 0 && n % s.adapt_interval == 0 &&
+        adapt(*adaptivity, model, problem, s, {&D, &previous}))
+      adapted();
+    model->assemble(R, nullptr);
     run.residual = R.norm() / load;
     run.iterations = n;
-    const bool done = n > 0 && run.residual < s.tolerance;
-    report(run, model, n, run.residual, done, s, progress);
+    bool done = n > 0 && run.residual < s.tolerance;
+    // Settled: the mesh must be settled too.
+    if (done && adaptivity && adapt(*adaptivity, model, problem, s, {&D, &previous})) {
+      adapted();
+      model->assemble(R, nullptr);
+      run.residual = R.norm() / load;
+      done = false;
+    }
+    report(run, *model, n, run.residual, done, s, progress);
     if (!std::isfinite(run.residual)) {
-      run.status = "diverged at t = " + number(n * dt) + " s (time step " + number(dt) + " s)";
+      run.status = "diverged at t = " + number(t) + " s (time step " + number(dt) + " s)";
       return run;
     }
     if (done) {
       run.converged = true;
-      run.status = "converged: |P - F| / |P| = " + number(run.residual) +
-                   " at t = " + number(n * dt) + " s after " + std::to_string(n) + " steps of " +
-                   number(dt) + " s";
+      run.status = "converged: |P - F| / |P| = " + number(run.residual) + " at t = " + number(t) +
+                   " s after " + std::to_string(n) + " steps of " + number(dt) + " s";
       return run;
     }
-    if (n >= steps) {
-      run.status = "not settled at t = " + number(n * dt) + " s (" + std::to_string(n) +
-                   " steps of " + number(dt) + " s): |P - F| / |P| = " + number(run.residual);
+    if (t >= s.end_time) {
+      run.status = "not settled at t = " + number(t) + " s (" + std::to_string(n) + " steps of " +
+                   number(dt) + " s): |P - F| / |P| = " + number(run.residual);
       return run;
     }
     if (cancelRequested(s.cancel)) {
       run.cancelled = true;
-      run.status = "cancelled at t = " + number(n * dt) + " s";
+      run.status = "cancelled at t = " + number(t) + " s";
       return run;
     }
     const Eigen::VectorXd next = (R.cwiseQuotient(M) + 2.0 * a * D + (b - a) * previous) / (a + b);
     previous = D;
     D = next;
-    model.setFreeState(D);
+    model->setFreeState(D);
+    t += dt;
   }
 }
 
@@ -171,6 +263,17 @@ void validateSolidShellSettings(const SolidShellSettings& s) {
   if (!(s.time_step >= 0.0)) throw InputError("solid_shell.time_step must not be negative");
   if (!(s.contact_stiffness >= 0.0))
     throw InputError("solid_shell.contact_stiffness must not be negative");
+  if (s.adaptive_levels < 0 || s.adaptive_levels > kMaxAdaptiveLevels)
+    throw InputError("solid_shell.adaptive_levels must lie in [0, " +
+                     std::to_string(kMaxAdaptiveLevels) +
+                     "] (0: no adaptivity; each level quadruples the background mesh), got " +
+                     std::to_string(s.adaptive_levels));
+  if (s.adaptive_levels > 0) {
+    positive(s.refine_threshold, "refine_threshold");
+    if (!(s.merge_margin > 0.0 && s.merge_margin < s.refine_threshold))
+      throw InputError("solid_shell.merge_margin must lie in (0, refine_threshold)");
+    if (s.adapt_interval < 1) throw InputError("solid_shell.adapt_interval must be positive");
+  }
   if (s.max_iterations < 1 || s.progress_interval < 1)
     throw InputError("solid_shell.max_iterations and progress_interval must be positive");
 }
@@ -185,8 +288,16 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
         "seams: the solid shell does not sew (use method fem_shell or particle for a garment with "
         "seams)");
   if (settings.scheme == SolidShellScheme::kStatic) problem.checkStaticSupport();
-  SolidShellModel model(problem, settings.thickness_strain, settings.mu, settings.contact_stiffness,
-                        settings.scheme == SolidShellScheme::kStatic);
+  std::optional<Adaptivity> adaptivity;
+  if (settings.adaptive_levels > 0) {
+    const SolidShellMesh level0 = solidShellMesh(problem);
+    adaptivity.emplace(
+        Adaptivity{AdaptiveQuadMesh(problem.mesh, level0.Xn, settings.adaptive_levels), {}, 0, 0});
+    adaptivity->bc = adaptivity->mesh.boundaryConditions(problem.bc);
+    adaptivity->peak_active_nodes = adaptivity->mesh.numActiveNodes();
+  }
+  Adaptivity* adaptive = adaptivity ? &*adaptivity : nullptr;
+  std::unique_ptr<SolidShellModel> model = buildModel(problem, settings, adaptive);
   const double k_contact = settings.contact_stiffness > 0.0
                                ? settings.contact_stiffness
                                : 100.0 * (problem.fabric ? std::max(problem.fabric->tensile_warp,
@@ -197,15 +308,30 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
     Eigen::AlignedBox3d box;
     for (const auto& x : problem.mesh.vertices) box.extend(x);
     const double lf = settings.free_length > 0.0 ? settings.free_length : box.sizes().maxCoeff();
-    run = solveStatic(model, settings, lf, progress);
+    run = solveStatic(*model, settings, lf, progress);
+    // Adaptive: each converged drape adapts the mesh and is solved again, until the mesh stays.
+    for (int round = 0; adaptive && run.converged && round < 4 * settings.adaptive_levels;
+         ++round) {
+      Eigen::VectorXd D = model->freeState();
+      if (!adapt(*adaptive, model, problem, settings, {&D})) break;
+      const int before = run.iterations;
+      run = solveStatic(*model, settings, lf, progress);
+      run.iterations += before;
+    }
   } else {
-    run = solveDynamic(model, settings, !problem.colliders.empty(), k_contact, progress);
+    run = solveDynamic(model, problem, settings, k_contact, adaptive, progress);
   }
   DrapeResult r;
   r.converged = run.converged;
   r.cancelled = run.cancelled;
   r.status = run.status;
-  const int reversed = model.reversedDirectors();
+  if (adaptive)
+    r.status += "; adaptive mesh: " + std::to_string(adaptive->adaptations) + " adaptations, " +
+                std::to_string(adaptive->mesh.leaves().size()) + " leaves, " +
+                std::to_string(adaptive->mesh.numActiveNodes()) + " active nodes (" +
+                std::to_string(adaptive->peak_active_nodes) + " at most) of " +
+                std::to_string(adaptive->mesh.numNodes());
+  const int reversed = model->reversedDirectors();
   if (reversed > 0)
     r.status += "; " + std::to_string(reversed) +
                 " element corners have their director below the mid-surface (top and bottom "
@@ -215,9 +341,17 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
   r.load_factor = 1.0;
   r.residual = run.residual;
   r.history = std::move(run.history);
-  r.positions = model.positions();
-  for (const auto& n : model.directors()) r.directors.push_back(n.normalized());
-  r.reactions = model.reactions();
+  r.positions = model->positions();
+  std::vector<Eigen::Vector3d> directors = model->directors();
+  if (adaptive) {
+    // On the background mesh: the inactive nodes where the active elements put them.
+    adaptive->mesh.interpolateInactive(r.positions);
+    adaptive->mesh.interpolateInactive(directors);
+    r.refined_mesh = adaptive->mesh.background();
+    r.peak_active_nodes = adaptive->peak_active_nodes;
+  }
+  for (const auto& n : directors) r.directors.push_back(n.normalized());
+  r.reactions = model->reactions();
   r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }

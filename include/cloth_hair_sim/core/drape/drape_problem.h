@@ -96,6 +96,10 @@ struct DrapeResult {
   std::string status;      // what happened, in words
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3d> directors;  // FEM shell only (unit normals of the fibres)
+  // The mesh positions are on when the solver refined the problem's (the adaptive solid shell's
+  // finest background mesh, its inactive nodes interpolated); empty: the problem's mesh.
+  std::optional<QuadMesh> refined_mesh;
+  int peak_active_nodes = 0;  // adaptive solid shell: most nodes in use at once
   int load_steps = 0;
   int iterations = 0;  // total Newton (or relaxation) iterations
   double load_factor = 0.0;

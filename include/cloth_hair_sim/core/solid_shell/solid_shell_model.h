@@ -10,6 +10,18 @@
 
 namespace chs {
 
+// The elements of a solid shell over a set of nodes: the problem's quads, or the active mesh of
+// an adaptive background mesh (quads and the triangles of its macro-transition elements; nodes no
+// element uses carry no unknowns).
+struct SolidShellMesh {
+  std::vector<Eigen::Vector3d> X, Xn;        // reference mid-surface nodes, unit directors
+  std::vector<std::array<int, 4>> elements;  // counter-clockwise; a triangle's fourth node is -1
+  BoundaryConditions bc;                     // on these nodes
+};
+
+// The problem's own quads, with the area-weighted vertex normals as directors.
+SolidShellMesh solidShellMesh(const DrapeProblem& problem);
+
 // Rigidities of an isotropic ShellMaterial for the solid shell (plane-stress enforcement: the
 // thickness stretch gets E h, uncoupled from the in-plane strains).
 SolidShellRigidity isotropicRigidity(const ShellMaterial& material);
@@ -25,6 +37,10 @@ class SolidShellModel {
   // lying inside it (dynamics).
   SolidShellModel(const DrapeProblem& problem, ThicknessStrain thickness_strain, double mu,
                   double contact_stiffness, bool centred_band = true);
+  // Material, gravity and colliders of the problem on another mesh (the adaptive mesh).
+  SolidShellModel(const DrapeProblem& problem, SolidShellMesh mesh,
+                  ThicknessStrain thickness_strain, double mu, double contact_stiffness,
+                  bool centred_band = true);
 
   int size() const { return num_free_; }
   // Out-of-balance force R = P - F(D) - F_contact on the free unknowns and, if asked, the
@@ -44,6 +60,13 @@ class SolidShellModel {
 
   std::vector<Eigen::Vector3d> positions() const;  // X_o + U_o
   std::vector<Eigen::Vector3d> directors() const;  // X_n + U_n
+  // The nodal displacements U_o, U_n of every node (a node without element keeps its values).
+  const std::vector<Eigen::Vector3d>& displacements() const { return u_; }
+  const std::vector<Eigen::Vector3d>& directorDisplacements() const { return un_; }
+  void setDisplacements(const std::vector<Eigen::Vector3d>& u,
+                        const std::vector<Eigen::Vector3d>& un);
+  // Whether an element uses the node.
+  bool isActive(int node) const { return active_[node]; }
   const std::vector<SolidShellElement>& elements() const { return elements_; }
   SolidShellState elementState(int e) const;
   // Directors below the deformed mid-surface, summed over the elements' corners.
@@ -56,6 +79,7 @@ class SolidShellModel {
   std::vector<Eigen::Vector3d> X_, Xn_;  // reference X_o, X_n
   std::vector<Eigen::Vector3d> u_, un_;  // displacements U_o, U_n
   std::vector<Eigen::Vector3d> weight_;
+  std::vector<bool> active_;
   std::vector<int> dof_;  // 6 per node, -1 when constrained
   int num_free_ = 0;
   Eigen::VectorXd mass_;

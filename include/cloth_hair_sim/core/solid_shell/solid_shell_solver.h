@@ -29,7 +29,17 @@ struct SolidShellSettings {
   double time_step = 0.0;     // [s]; 0 = 0.5 x the stable step 2 / omega_max (Gershgorin bound)
   double end_time = 10.0;     // [s]; the run stops earlier once the tolerance is met
   double contact_stiffness = 0.0;  // k_c [N/m]; 0 = a hundred times the membrane rigidity
-  int progress_interval = 100;     // iterations (steps) between progress events
+  // Reversible adaptive 1-4 subdivision of seed 001 section 5 (adaptive_mesh.h): the garment's
+  // quads are level 0, split at most adaptive_levels times (0: the mesh stays as given). An
+  // element splits where |eps_b| L_i > refine_threshold (eq. (25)); four siblings merge where
+  // each has |eps_b| L_(i-1) <= refine_threshold - merge_margin (eq. (26)). The dynamic scheme
+  // adapts every adapt_interval steps; the static scheme adapts each converged drape and solves
+  // again until the mesh stays.
+  int adaptive_levels = 0;
+  double refine_threshold = 0.2;  // const of eq. (25): the bend [rad] an element may take
+  double merge_margin = 0.1;      // epsilon of eq. (26)
+  int adapt_interval = 500;       // steps
+  int progress_interval = 100;    // iterations (steps) between progress events
   const CancelFlag* cancel = nullptr;
 };
 
