@@ -83,6 +83,63 @@ std::vector<int> adaptFlags(const AdaptiveQuadMesh& mesh, const SolidShellModel&
   return flags;
 }
 
+// The switched-on nodes' static equilibrium with every other node held: Newton on their own
+// unknowns, from the discrete Kirchhoff state. Ours, not the seed's: the discrete Kirchhoff
+// condition is linear and blind to how a coarse element's directors lag its chords, so its nodes
+// start with transverse shear (measured: a 4 x 4 wool sheet on a table at its first
+// adaptation, shear strains near 0.05 and 100 x the sheet's strain energy, which then threw the
+// sheet off the table). Returns the corrections of U_o and U_n (zero where Newton does not lower
+// the energy).
+std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> settleSwitchedOnNodes(
+    const Adaptivity& a, const DrapeProblem& problem, const SolidShellSettings& s,
+    const std::vector<bool>& was_active, const std::vector<Eigen::Vector3d>& u,
+    const std::vector<Eigen::Vector3d>& un) {
+  const std::size_t n = u.size();
+  std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> none{
+      std::vector<Eigen::Vector3d>(n, Eigen::Vector3d::Zero()),
+      std::vector<Eigen::Vector3d>(n, Eigen::Vector3d::Zero())};
+  SolidShellMesh mesh = a.mesh.activeMesh(a.bc);
+  for (std::size_t v = 0; v < n; ++v)
+    if (was_active[v]) mesh.bc.clamped.push_back(static_cast<int>(v));
+  SolidShellModel local(problem, std::move(mesh), s.thickness_strain, s.mu, s.contact_stiffness,
+                        s.scheme == SolidShellScheme::kStatic);
+  if (local.size() == 0) return none;
+  local.setDisplacements(u, un);
+  Eigen::VectorXd R, trial_R;
+  Eigen::SparseMatrix<double> K;
+  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu;
+  // Total potential: strain energy minus the work of the weights, plus the contact penalty's;
+  // the model gives the strain energy and R = -dPi/dD, so steps are accepted on |R| falling.
+  double energy = local.assemble(R, &K);
+  (void)energy;
+  const double start = R.norm();
+  for (int it = 0; it < 10 && R.norm() > 1e-6 * start; ++it) {
+    lu.compute(K);
+    if (lu.info() != Eigen::Success) break;
+    Eigen::VectorXd dD = lu.solve(R);
+    if (!dD.allFinite()) break;
+    const Eigen::VectorXd D = local.freeState();
+    // Halve the step until the out-of-balance force falls (an indefinite K near contact).
+    bool accepted = false;
+    for (int half = 0; half < 8 && !accepted; ++half, dD *= 0.5) {
+      local.setFreeState(D + dD);
+      local.assemble(trial_R, nullptr);
+      accepted = trial_R.norm() < R.norm();
+    }
+    if (!accepted) {
+      local.setFreeState(D);
+      break;
+    }
+    energy = local.assemble(R, &K);
+  }
+  if (!(R.norm() < start)) return none;
+  for (std::size_t v = 0; v < n; ++v) {
+    none.first[v] = local.displacements()[v] - u[v];
+    none.second[v] = local.directorDisplacements()[v] - un[v];
+  }
+  return none;
+}
+
 // One adaptation; when the mesh changed, the model is rebuilt on it with the nodal state carried
 // over (the nodes switched on get theirs by the discrete Kirchhoff condition) and the free states
 // in `states` (the current one first) re-expressed on its unknowns.
@@ -91,12 +148,40 @@ bool adapt(Adaptivity& a, std::unique_ptr<SolidShellModel>& model, const DrapePr
   const std::vector<bool> was_active = a.mesh.activeNodes();
   if (!a.mesh.adapt(adaptFlags(a.mesh, *model, s))) return false;
   std::vector<std::vector<Eigen::Vector3d>> u(states.size()), un(states.size());
-  for (std::size_t k = states.size(); k-- > 0;) {  // the current state last: it stays set
+  const std::vector<bool> now_active = a.mesh.activeNodes();
+  const auto& X = a.mesh.background().vertices;
+  for (std::size_t k = 0; k < states.size(); ++k) {
     model->setFreeState(*states[k]);
     u[k] = model->displacements();
     un[k] = model->directorDisplacements();
-    a.mesh.fillSwitchedOnNodes(was_active, u[k], un[k]);
   }
+  // The current state by the discrete Kirchhoff condition; the others as differences from it
+  // interpolated linearly: the new nodes' velocities are their parents' mean. (Applied to each
+  // state, the nonlinear condition would give velocities of its jumps over one time step.)
+  for (std::size_t k = 1; k < states.size(); ++k)
+    for (std::size_t v = 0; v < X.size(); ++v) u[k][v] -= u[0][v], un[k][v] -= un[0][v];
+  a.mesh.fillSwitchedOnNodes(was_active, u[0], un[0]);
+  for (std::size_t k = 1; k < states.size(); ++k) {
+    a.mesh.fillSwitchedOnNodes(was_active, u[k], un[k], false);
+    for (std::size_t v = 0; v < X.size(); ++v) u[k][v] += u[0][v], un[k][v] += un[0][v];
+  }
+  // A node switched on inside a collider (the coarser mesh sagged through a table's edge between
+  // its nodes) starts on the collider's surface, not deep in its penalty. Every state moves by
+  // the same amount: the node's velocity stays the discrete Kirchhoff one (a velocity from
+  // projecting each state on its own would be the penetration over one time step).
+  for (std::size_t v = 0; v < X.size(); ++v) {
+    if (!now_active[v] || was_active[v]) continue;
+    Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+    for (const auto& surface : problem.colliders) {
+      const SurfaceProjection p = surface->project(X[v] + u[0][v] + shift);
+      if (p.gap < 0.0) shift -= p.gap * p.normal;
+    }
+    for (auto& state : u) state[v] += shift;
+  }
+  // The switched-on nodes then settle against their neighbours held still.
+  const auto [du, dun] = settleSwitchedOnNodes(a, problem, s, was_active, u[0], un[0]);
+  for (std::size_t k = 0; k < states.size(); ++k)
+    for (std::size_t v = 0; v < X.size(); ++v) u[k][v] += du[v], un[k][v] += dun[v];
   model = buildModel(problem, s, &a);
   for (std::size_t k = states.size(); k-- > 0;) {
     model->setDisplacements(u[k], un[k]);

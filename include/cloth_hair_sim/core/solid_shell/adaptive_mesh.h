@@ -76,9 +76,10 @@ class AdaptiveQuadMesh {
 
   // After adapt(): the displacements of the nodes switched on since `was_active` (activeNodes()
   // before), coarse to fine: mid-edge nodes by the discrete Kirchhoff condition along their
-  // parent's edge, centre nodes by the serendipity element of their parent (seed 001 5.4).
+  // parent's edge (or, with discrete_kirchhoff false, the mean of its ends: for velocities),
+  // centre nodes by the serendipity element of their parent (seed 001 5.4).
   void fillSwitchedOnNodes(const std::vector<bool>& was_active, std::vector<Eigen::Vector3d>& u,
-                           std::vector<Eigen::Vector3d>& un) const;
+                           std::vector<Eigen::Vector3d>& un, bool discrete_kirchhoff = true) const;
 
   // Values of the inactive nodes interpolated from the active elements' shape functions (the
   // active mesh's surface, seen on the background mesh).
