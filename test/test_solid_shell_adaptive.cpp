@@ -7,6 +7,8 @@
 // inside out (interpenetration, section 4.3) with none once adaptive.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 #include <string>
@@ -18,6 +20,7 @@
 #include "cloth_hair_sim/core/io/scene.h"
 #include "cloth_hair_sim/core/solid_shell/adaptive_mesh.h"
 #include "cloth_hair_sim/core/solid_shell/solid_shell_solver.h"
+#include "drape_tool_runner.h"
 
 namespace chs {
 namespace {
@@ -362,6 +365,49 @@ TEST(AdaptiveDrape, SheetOnTableWithoutInterpenetration) {
               1e3 * lowest, 1e3 * deepest, adaptive.peak_active_nodes);
   EXPECT_LT(lowest, -0.04);
   EXPECT_GT(deepest, -1e-4);
+}
+
+// The drape tool on an adaptive scene: the draped background mesh, the elements in use at the end
+// (quads and triangles) in active_mesh.obj, the peak node count in the report; a level beyond
+// the limit is refused with the scene key named.
+TEST(AdaptiveDrape, DrapeToolWritesTheActiveMesh) {
+  const std::string dir = ::testing::TempDir() + "adaptive_strip";
+  std::filesystem::create_directories(dir);
+  const std::string scene = dir + "/strip.yaml";
+  auto write = [&](int levels) {
+    std::ofstream(scene)
+        << "name: adaptive_strip\nmethod: solid_shell\ngravity: [0, 0, -9.80665]\n"
+           "garment: {rectangle: {size: [0.05, 0.01], cells: [5, 1], centre: [0.025, 0, 0]}}\n"
+           "material: {woven: wool_suiting_kes, warp: [1, 0, 0]}\n"
+           "boundary: {clamped: {plane: {axis: x, value: 0}}}\n"
+           "solid_shell: {multiplier: 0.05, free_length: 0.05, adaptive_levels: "
+        << levels << ", refine_threshold: 0.1, merge_margin: 0.05}\n";
+  };
+  write(2);
+  const auto run = testing::drape(scene + " --quiet --out " + dir + "/out");
+  ASSERT_EQ(run.status, 0) << run.output;
+  std::ifstream obj(dir + "/out/active_mesh.obj");
+  ASSERT_TRUE(obj.good());
+  int vertices = 0, quads = 0, triangles = 0;
+  for (std::string line; std::getline(obj, line);) {
+    if (line.rfind("v ", 0) == 0) ++vertices;
+    if (line.rfind("f ", 0) != 0) continue;
+    const int corners = static_cast<int>(std::count(line.begin(), line.end(), ' '));
+    (corners == 4 ? quads : triangles) += corners == 4 || corners == 3;
+  }
+  std::ifstream report(dir + "/out/report.json");
+  std::string text((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+  std::printf("drape tool, adaptive strip: active_mesh.obj %d vertices, %d quads, %d triangles\n",
+              vertices, quads, triangles);
+  EXPECT_EQ(vertices, 21 * 5);  // the background mesh's nodes
+  EXPECT_GT(quads, 5);
+  EXPECT_GT(triangles, 0);
+  EXPECT_NE(text.find("nodes in use at most"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/out/drape.png"));
+  write(kMaxAdaptiveLevels + 1);
+  const auto bad = testing::drape(scene + " --quiet --out " + dir + "/bad");
+  EXPECT_EQ(bad.status, 1);  // bad input
+  EXPECT_NE(bad.output.find("adaptive_levels"), std::string::npos) << bad.output;
 }
 
 }  // namespace

@@ -112,6 +112,17 @@ int run(int argc, char** argv) {
 
   chs::writeObj((dir / scene.output.obj).string(), mesh, positions);
   chs::writePly((dir / scene.output.ply).string(), mesh, positions);
+  // The adaptive mesh as it ended: its own OBJ, and the picture draws it (a triangle as a quad
+  // with its last corner twice).
+  chs::QuadMesh pictured = mesh;
+  if (!result.active_elements.empty() && result.positions.size() == mesh.vertices.size()) {
+    chs::writeElementsObj((dir / "active_mesh.obj").string(), positions, result.active_elements);
+    pictured.quads.clear();
+    for (auto e : result.active_elements) {
+      if (e[3] < 0) e[3] = e[2];
+      pictured.quads.push_back(e);
+    }
+  }
 
   chs::ReportContext context;
   context.scene_name = scene.name;
@@ -127,9 +138,11 @@ int run(int argc, char** argv) {
   context.vertices = mesh.numVertices();
   context.quads = mesh.numQuads();
   if (result.refined_mesh)
-    context.notes.push_back("adaptive mesh: " + std::to_string(result.peak_active_nodes) +
-                            " nodes in use at most; meshes show the background mesh of " +
-                            std::to_string(mesh.numVertices()) + " nodes");
+    context.notes.push_back(
+        "adaptive mesh: " + std::to_string(result.peak_active_nodes) +
+        " nodes in use at most; draped.obj/ply hold the background mesh of " +
+        std::to_string(mesh.numVertices()) +
+        " nodes, active_mesh.obj and the picture the elements in use at the end");
   if (result.positions.size() != mesh.vertices.size())
     context.notes.push_back("the solver returned no positions: meshes show the reference state");
 
@@ -176,7 +189,8 @@ int run(int argc, char** argv) {
                              : 0.0);
   });
   picture("drape picture", [&] {
-    chs::plotDrape(mesh, positions, scene.colliders, (dir / scene.output.picture).string(), title);
+    chs::plotDrape(pictured, positions, scene.colliders, (dir / scene.output.picture).string(),
+                   title);
   });
   chs::writeDrapeReport((dir / scene.output.report).string(), result, context);
 

@@ -31,9 +31,10 @@ void objFile(const std::string& path, const std::string& what,
   out << "# cloth_hair_sim " << what << ": " << positions.size() << " vertices, " << faces.size()
       << " faces\n";
   for (const auto& p : positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  for (const auto& f : faces) {  // OBJ indices are 1-based
+  for (const auto& f : faces) {  // OBJ indices are 1-based; -1 ends a shorter face
     out << 'f';
-    for (int v : f) out << ' ' << v + 1;
+    for (int v : f)
+      if (v >= 0) out << ' ' << v + 1;
     out << '\n';
   }
   finish(out, path);
@@ -70,6 +71,16 @@ void writeObj(const std::string& path, const QuadMesh& mesh,
               const std::vector<Eigen::Vector3d>& positions) {
   checkPositions(path, mesh, positions);
   objFile(path, "quad mesh", positions, mesh.quads);
+}
+
+void writeElementsObj(const std::string& path, const std::vector<Eigen::Vector3d>& positions,
+                      const std::vector<std::array<int, 4>>& elements) {
+  for (const auto& e : elements)
+    for (int v : e)
+      if (v >= static_cast<int>(positions.size()))
+        throw InputError(path + ": an element refers to vertex " + std::to_string(v) + " of " +
+                         std::to_string(positions.size()));
+  objFile(path, "element mesh", positions, elements);
 }
 
 void writePly(const std::string& path, const QuadMesh& mesh,

@@ -89,7 +89,7 @@ std::vector<int> adaptFlags(const AdaptiveQuadMesh& mesh, const SolidShellModel&
 // start with transverse shear (measured: a 4 x 4 wool sheet on a table at its first
 // adaptation, shear strains near 0.05 and 100 x the sheet's strain energy, which then threw the
 // sheet off the table). Returns the corrections of U_o and U_n (zero where Newton does not lower
-// the energy).
+// the out-of-balance force).
 std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> settleSwitchedOnNodes(
     const Adaptivity& a, const DrapeProblem& problem, const SolidShellSettings& s,
     const std::vector<bool>& was_active, const std::vector<Eigen::Vector3d>& u,
@@ -108,10 +108,8 @@ std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> settleSwit
   Eigen::VectorXd R, trial_R;
   Eigen::SparseMatrix<double> K;
   Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu;
-  // Total potential: strain energy minus the work of the weights, plus the contact penalty's;
-  // the model gives the strain energy and R = -dPi/dD, so steps are accepted on |R| falling.
-  double energy = local.assemble(R, &K);
-  (void)energy;
+  // Steps are accepted while the out-of-balance force falls.
+  local.assemble(R, &K);
   const double start = R.norm();
   for (int it = 0; it < 10 && R.norm() > 1e-6 * start; ++it) {
     lu.compute(K);
@@ -130,7 +128,7 @@ std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> settleSwit
       local.setFreeState(D);
       break;
     }
-    energy = local.assemble(R, &K);
+    local.assemble(R, &K);
   }
   if (!(R.norm() < start)) return none;
   for (std::size_t v = 0; v < n; ++v) {
@@ -433,6 +431,7 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
     adaptive->mesh.interpolateInactive(r.positions);
     adaptive->mesh.interpolateInactive(directors);
     r.refined_mesh = adaptive->mesh.background();
+    for (const auto& e : adaptive->mesh.elements()) r.active_elements.push_back(e.nodes);
     r.peak_active_nodes = adaptive->peak_active_nodes;
   }
   for (const auto& n : directors) r.directors.push_back(n.normalized());

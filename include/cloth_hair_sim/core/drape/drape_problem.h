@@ -99,7 +99,9 @@ struct DrapeResult {
   // The mesh positions are on when the solver refined the problem's (the adaptive solid shell's
   // finest background mesh, its inactive nodes interpolated); empty: the problem's mesh.
   std::optional<QuadMesh> refined_mesh;
-  int peak_active_nodes = 0;  // adaptive solid shell: most nodes in use at once
+  // Its elements in use at the end (a triangle's fourth node -1) and the most nodes in use at once.
+  std::vector<std::array<int, 4>> active_elements;
+  int peak_active_nodes = 0;
   int load_steps = 0;
   int iterations = 0;  // total Newton (or relaxation) iterations
   double load_factor = 0.0;

@@ -1,4 +1,5 @@
 #pragma once
+#include <array>
 #include <string>
 #include <vector>
 #include "cloth_hair_sim/core/rod/groom.h"
@@ -16,6 +17,10 @@ void writeObj(const std::string& path, const QuadMesh& mesh,
               const std::vector<Eigen::Vector3d>& positions);
 void writePly(const std::string& path, const QuadMesh& mesh,
               const std::vector<Eigen::Vector3d>& positions);
+
+// Faces of 3 or 4 corners (a fourth corner of -1 makes a triangle), e.g. an adaptive mesh.
+void writeElementsObj(const std::string& path, const std::vector<Eigen::Vector3d>& positions,
+                      const std::vector<std::array<int, 4>>& elements);
 
 // The mesh in its own (reference) configuration.
 inline void writeObj(const std::string& path, const QuadMesh& mesh) {
