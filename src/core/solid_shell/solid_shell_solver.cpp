@@ -139,8 +139,8 @@ std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> settleSwit
 }
 
 // One adaptation; when the mesh changed, the model is rebuilt on it with the nodal state carried
-// over (the nodes switched on get theirs by the discrete Kirchhoff condition) and the free states
-// in `states` (the current one first) re-expressed on its unknowns.
+// over (the nodes switched on get theirs by the discrete Kirchhoff condition, then settle) and the
+// free states in `states` (the current one first) re-expressed on its unknowns.
 bool adapt(Adaptivity& a, std::unique_ptr<SolidShellModel>& model, const DrapeProblem& problem,
            const SolidShellSettings& s, std::vector<Eigen::VectorXd*> states) {
   const std::vector<bool> was_active = a.mesh.activeNodes();
@@ -165,8 +165,8 @@ bool adapt(Adaptivity& a, std::unique_ptr<SolidShellModel>& model, const DrapePr
   }
   // A node switched on inside a collider (the coarser mesh sagged through a table's edge between
   // its nodes) starts on the collider's surface, not deep in its penalty. Every state moves by
-  // the same amount: the node's velocity stays the discrete Kirchhoff one (a velocity from
-  // projecting each state on its own would be the penetration over one time step).
+  // the same amount: the node's velocity stays its parents' mean (a velocity from projecting
+  // each state on its own would be the penetration over one time step).
   for (std::size_t v = 0; v < X.size(); ++v) {
     if (!now_active[v] || was_active[v]) continue;
     Eigen::Vector3d shift = Eigen::Vector3d::Zero();
