@@ -157,11 +157,6 @@ std::array<int, 4> AdaptiveQuadMesh::corners(const Cell& c) const {
   return {l[C0], l[C1], l[C2], l[C3]};
 }
 
-std::array<int, 4> AdaptiveQuadMesh::midpoints(const Cell& c) const {
-  const auto l = labels(c);
-  return {l[M0], l[M1], l[M2], l[M3]};
-}
-
 int AdaptiveQuadMesh::centre(const Cell& c) const {
   return labels(c)[Z];
 }

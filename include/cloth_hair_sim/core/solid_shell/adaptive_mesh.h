@@ -1,6 +1,5 @@
 #pragma once
 #include <array>
-#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -15,12 +14,12 @@ namespace chs {
 constexpr int kMaxAdaptiveLevels = 4;
 
 // Seed 001 section 5: reversible 1-4 subdivision of the user's level-0 quads.
-//  - The background mesh (5.1): every level-0 quad split n times; its nodes are numbered once,
+//  - The background mesh: every level-0 quad split n times; its nodes are numbered once,
 //    shared along level-0 edges, with X_o bilinear in the level-0 quad (the seed's mid-edge
 //    averages and serendipity centres, which coincide with it) and X_n the normalised bilinear
 //    blend of the level-0 directors.
 //  - The active mesh: the leaves of a quadtree in each level-0 quad, adjacent leaves at most one
-//    level apart (5.3). A leaf whose neighbour is one level finer sees that neighbour's corner at
+//    level apart. A leaf whose neighbour is one level finer sees that neighbour's corner at
 //    its edge's midpoint and becomes a macro-transition element (Fig. 16(b)) of quads and as few
 //    triangles as possible, using its centre node where needed:
 //      one mid-edge node:            2 quads + 1 triangle
@@ -46,18 +45,14 @@ class AdaptiveQuadMesh {
   AdaptiveQuadMesh(const QuadMesh& level0, const std::vector<Eigen::Vector3d>& directors,
                    int levels);
 
-  int levels() const { return levels_; }
   // The finest mesh: every node, (2^n)^2 quads per level-0 quad.
   const QuadMesh& background() const { return background_; }
-  const std::vector<Eigen::Vector3d>& directors() const { return directors_; }
   int numNodes() const { return background_.numVertices(); }
   // Background node of lattice point (a, b) of level-0 quad q.
   int node(int quad, int a, int b) const { return lattice_[quad][a * (size_ + 1) + b]; }
 
   const std::vector<Cell>& leaves() const { return leaves_; }
   std::array<int, 4> corners(const Cell& c) const;
-  // Nodes at the midpoints of the edges (corner k, corner k+1); -1 at the finest level.
-  std::array<int, 4> midpoints(const Cell& c) const;
   int centre(const Cell& c) const;  // -1 at the finest level
   // Mean reference side length of a leaf (L_i of eq. (25)).
   double sideLength(const Cell& c) const;
