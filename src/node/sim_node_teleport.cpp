@@ -1,4 +1,5 @@
 // Jumps of tf frames (teleport.h): colliders are placed at their new pose, held garments carried.
+#include <set>
 #include <string>
 #include <vector>
 
@@ -11,14 +12,19 @@ void SimNode::teleportJumps(double duration) {
   // A collider that jumped, or is back after a gap (its motion meanwhile is unknown), is placed
   // at its pose for the whole update with no velocity: cloth it leaves behind falls, cloth it
   // lands in is pushed out by contact.
+  std::set<std::string> jumped_now;
   for (const auto& c : colliders_.colliders()) {
     const auto it = collider_from_.find(c.name);
     if (!c.has_pose || it == collider_from_.end()) continue;
     const double d =
         ((it->second * c.shape.offset).translation() - c.shapePose().translation()).norm();
-    if (jumped(d, duration, params_.max_speed))
+    const bool jump = jumped(d, duration, params_.max_speed);
+    if (jump) jumped_now.insert(c.name);
+    if (jump)
       ROS_WARN("collider '%s' jumped %.3g m in one update: placed there, not swept", c.name.c_str(),
                d);
+    else if (colliders_jumped_.count(c.name) && d > 0.0)
+      ROS_INFO("collider '%s': the tail of its jump, %.3g m, placed too", c.name.c_str(), d);
     else if (c.reappeared && d > 0.0)
       ROS_INFO("collider '%s' is back after a gap, %.3g m away: placed there, not swept",
                c.name.c_str(), d);
@@ -26,6 +32,7 @@ void SimNode::teleportJumps(double duration) {
       continue;
     it->second = c.world_from_frame;
   }
+  colliders_jumped_ = std::move(jumped_now);
 
   // A garment held by a frame that jumped goes along rigidly (a gripper keeps its cloth through
   // a relocalisation), if every vertex held in place moves with that jump; a garment also held
@@ -37,11 +44,12 @@ void SimNode::teleportJumps(double duration) {
     for (auto& [grasp_name, grasp] : grasps_)
       if (grasp.garment == name) held.push_back(&grasp.attachment);
     const FrameAttachment* first = nullptr;
-    for (const auto* a : held)
-      if (jumped(farthestMove(*a, a->from, a->to), duration, params_.max_speed)) {
+    for (auto* a : held) {
+      const bool jump = jumped(farthestMove(*a, a->from, a->to), duration, params_.max_speed);
+      if (!first && (jump || (a->jumped_before && farthestMove(*a, a->from, a->to) > 0.0)))
         first = a;
-        break;
-      }
+      a->jumped_before = jump;
+    }
     if (!first) continue;
     const Eigen::Isometry3d jump = first->to * first->from.inverse();
     chs::ClothDynamics& dyn = *g.dynamics;

@@ -23,6 +23,9 @@ struct FrameAttachment {
   Eigen::Isometry3d from = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d to = Eigen::Isometry3d::Identity();
   bool stale = false;  // the last lookup failed: `to` holds the last pose
+  // The frame jumped in the previous update: tf, asked for a time just after a jump, interpolates
+  // across it, so the jump's tail comes an update later and is carried too, not swept.
+  bool jumped_before = false;
 
   // Attaches vertices at their positions x, the frame being at world_from_frame now.
   FrameAttachment(std::string frame, std::vector<int> vertices,

@@ -6,6 +6,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 
 #include <dynamic_reconfigure/server.h>
@@ -226,6 +227,8 @@ class SimNode {
   // current pose over the update's substeps (all the way unless the inputs lag), with the
   // velocity of that motion.
   std::map<std::string, Eigen::Isometry3d> collider_from_;
+  // Colliders that jumped in the previous update: the tail of an interpolated jump is placed too.
+  std::set<std::string> colliders_jumped_;
   // [s] frame pins and grasps follow their frames this far in the past (~tf_delay), where tf
   // interpolates: sampled at the latest stamp, a frame would advance by one or two of its
   // publisher's periods per update and shake the stiff cloth.
