@@ -202,7 +202,7 @@ int run(int argc, char** argv) {
     std::cout << "drape: " << (result.converged ? "converged" : "NOT converged") << " after "
               << result.load_steps << " load steps, " << result.iterations << " iterations, "
               << result.wall_time_s << " s: " << result.status << "\n"
-              << (scene.method == chs::DrapeMethod::kFemShell
+              << (!result.stability.verdict.empty()
                       ? "drape: stability: " + result.stability.verdict + eigen + "\n"
                       : std::string())
               << "drape: results in " << dir.string() << std::endl;

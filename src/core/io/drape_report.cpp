@@ -36,7 +36,7 @@ std::string drapeReportJson(const DrapeResult& r, const ReportContext& c) {
   j["load_factor"] = num(r.load_factor);
   j["residual"] = num(r.residual);
   j["wall_time_s"] = num(r.wall_time_s);
-  if (c.method == "fem_shell")
+  if (!r.stability.verdict.empty())  // the FEM shell and the solid shell's energy scheme
     j["stability"] = {{"assessed", r.stability.assessed},
                       {"lowest_eigenvalue",
                        r.stability.assessed ? num(r.stability.lowest_eigenvalue) : json(nullptr)},

@@ -371,9 +371,11 @@ SolidShellSettings parseSolidShell(const YAML::Node& node) {
   Section s(node, "solid_shell");
   SolidShellSettings o;
   const std::string scheme = s.text("scheme", "static");
-  if (scheme != "static" && scheme != "dynamic")
-    fail(s.key("scheme"), "must be static or dynamic, got '" + scheme + "'");
-  o.scheme = scheme == "static" ? SolidShellScheme::kStatic : SolidShellScheme::kDynamic;
+  if (scheme != "static" && scheme != "dynamic" && scheme != "energy")
+    fail(s.key("scheme"), "must be static, dynamic or energy, got '" + scheme + "'");
+  o.scheme = scheme == "static"    ? SolidShellScheme::kStatic
+             : scheme == "dynamic" ? SolidShellScheme::kDynamic
+                                   : SolidShellScheme::kEnergy;
   const std::string strain = s.text("thickness_strain", "green");
   if (strain != "green" && strain != "quasi_engineering")
     fail(s.key("thickness_strain"), "must be green or quasi_engineering, got '" + strain + "'");
@@ -559,6 +561,7 @@ std::vector<std::pair<std::string, double>> materialList(const ShellMaterial& m)
 
 std::vector<std::pair<std::string, double>> settingsList(const SolidShellSettings& s) {
   return {{"dynamic", s.scheme == SolidShellScheme::kDynamic ? 1.0 : 0.0},
+          {"energy", s.scheme == SolidShellScheme::kEnergy ? 1.0 : 0.0},
           {"quasi_engineering_thickness_strain",
            s.thickness_strain == ThicknessStrain::kQuasiEngineering ? 1.0 : 0.0},
           {"mu", s.mu},

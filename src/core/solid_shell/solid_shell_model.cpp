@@ -242,6 +242,37 @@ SolidShellModel::Penalty SolidShellModel::penalty(double gap) const {
   return {0.5 * k_contact_ * p * p / delta, k_contact_ * p / delta};
 }
 
+double SolidShellModel::penaltyEnergy(double gap) const {
+  const double delta = smoothing_, p = (centred_band_ ? 0.5 * delta : 0.0) - gap;
+  if (p <= 0.0) return 0.0;
+  if (p >= delta) return k_contact_ * (delta * delta / 6.0 + 0.5 * p * (p - delta));
+  return k_contact_ * p * p * p / (6.0 * delta);
+}
+
+double SolidShellModel::potentialEnergy(double load_factor) const {
+  std::vector<double> u(elements_.size());
+  tbb::parallel_for(std::size_t(0), elements_.size(), [&](std::size_t e) {
+    u[e] = elements_[e].evaluate(elementState(static_cast<int>(e)), nullptr, nullptr);
+  });
+  double energy = 0.0;
+  for (double w : u) energy += w;
+  for (std::size_t v = 0; v < X_.size(); ++v) {
+    if (!active_[v]) continue;
+    energy -= load_factor * weight_[v].dot(u_[v]);
+    for (const auto& surface : problem_.colliders)
+      energy += penaltyEnergy(surface->project(X_[v] + u_[v]).gap);
+  }
+  return energy;
+}
+
+Eigen::VectorXd SolidShellModel::loadVector() const {
+  Eigen::VectorXd P = Eigen::VectorXd::Zero(num_free_);
+  for (std::size_t v = 0; v < X_.size(); ++v)
+    for (int a = 0; a < 3; ++a)
+      if (dof_[6 * v + a] >= 0) P[dof_[6 * v + a]] = weight_[v][a];
+  return P;
+}
+
 void SolidShellModel::increment(const Eigen::VectorXd& dD) {
   for (std::size_t v = 0; v < X_.size(); ++v)
     for (int k = 0; k < 6; ++k) {
@@ -249,6 +280,20 @@ void SolidShellModel::increment(const Eigen::VectorXd& dD) {
       if (d < 0) continue;
       (k < 3 ? u_[v][k] : un_[v][k - 3]) += dD[d];
     }
+}
+
+std::pair<double, double> SolidShellModel::largestIncrement(const Eigen::VectorXd& dD) const {
+  double move = 0.0, turn = 0.0;
+  for (std::size_t v = 0; v < X_.size(); ++v) {
+    double t2 = 0.0, n2 = 0.0;
+    for (int k = 0; k < 6; ++k) {
+      const int d = dof_[6 * v + k];
+      if (d >= 0) (k < 3 ? t2 : n2) += dD[d] * dD[d];
+    }
+    move = std::max(move, t2);
+    turn = std::max(turn, n2);
+  }
+  return {std::sqrt(move), std::sqrt(turn)};
 }
 
 Eigen::VectorXd SolidShellModel::freeState() const {

@@ -13,6 +13,9 @@
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/solid_shell/adaptive_mesh.h"
 #include "cloth_hair_sim/core/solid_shell/solid_shell_model.h"
+#include "cloth_hair_sim/core/solver/continuation_problem.h"
+#include "cloth_hair_sim/core/solver/energy_newton.h"
+#include "cloth_hair_sim/core/solver/stability.h"
 
 namespace chs {
 
@@ -55,7 +58,7 @@ struct Adaptivity {
 
 std::unique_ptr<SolidShellModel> buildModel(const DrapeProblem& problem,
                                             const SolidShellSettings& s, const Adaptivity* a) {
-  const bool centred = s.scheme == SolidShellScheme::kStatic;
+  const bool centred = s.scheme != SolidShellScheme::kDynamic;
   if (!a)
     return std::make_unique<SolidShellModel>(problem, s.thickness_strain, s.mu, s.contact_stiffness,
                                              centred);
@@ -102,7 +105,7 @@ std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> settleSwit
   for (std::size_t v = 0; v < n; ++v)
     if (was_active[v]) mesh.bc.clamped.push_back(static_cast<int>(v));
   SolidShellModel local(problem, std::move(mesh), s.thickness_strain, s.mu, s.contact_stiffness,
-                        s.scheme == SolidShellScheme::kStatic);
+                        s.scheme != SolidShellScheme::kDynamic);
   if (local.size() == 0) return none;
   local.setDisplacements(u, un);
   Eigen::VectorXd R, trial_R;
@@ -260,6 +263,71 @@ Run solveStatic(SolidShellModel& model, const SolidShellSettings& s, double free
   }
 }
 
+// The solid shell as a problem for the energy minimiser: R = lambda P - F - F_c, K = dF/dD + the
+// penalty's stiffness (symmetric: both come from a potential).
+class SolidShellEnergyProblem : public ContinuationProblem {
+ public:
+  explicit SolidShellEnergyProblem(SolidShellModel& model)
+      : model_(model), load_(model.loadVector()), saved_(model.freeState()) {
+    double edges = 0.0;
+    int count = 0;
+    const auto x = model.positions();
+    for (const auto& el : model.elements())
+      for (int i = 0; i < el.corners(); ++i, ++count)
+        edges += (x[el.nodes()[i]] - x[el.nodes()[(i + 1) % el.corners()]]).norm();
+    mean_edge_ = count > 0 ? edges / count : model.lengthScale();
+  }
+  int size() const override { return model_.size(); }
+  void linearize(double lambda, Eigen::VectorXd& R, Eigen::VectorXd& F0,
+                 Eigen::SparseMatrix<double>* K) override {
+    model_.assemble(R, K);
+    if (lambda != 1.0) R -= (1.0 - lambda) * load_;
+    F0 = load_;
+  }
+  void increment(const Eigen::VectorXd& dq) override { model_.increment(dq); }
+  void save() override { saved_ = model_.freeState(); }
+  void restore() override { model_.setFreeState(saved_); }
+  double loadNorm() const override { return model_.loadNorm(); }
+  double lengthScale() const override { return model_.lengthScale(); }
+  int activeContacts() const override { return model_.activeContacts(); }
+  double energy(double lambda) override { return model_.potentialEnergy(lambda); }
+  // As the FEM shell's: no node moves by more than two mean edges, no director by more than
+  // half its length, in one Newton step (the far-field step is the huge linear response).
+  double stepBound(const Eigen::VectorXd& dq) const override {
+    const auto [move, turn] = model_.largestIncrement(dq);
+    double f = 1.0;
+    if (move > 2.0 * mean_edge_) f = std::min(f, 2.0 * mean_edge_ / move);
+    if (turn > 0.5) f = std::min(f, 0.5 / turn);
+    return f;
+  }
+
+ private:
+  SolidShellModel& model_;
+  Eigen::VectorXd load_, saved_;
+  double mean_edge_ = 1.0;
+};
+
+// The energy scheme (ours): Newton on the total potential with a modified Hessian, a line search
+// and saddle escapes; the stability of the returned state comes with it.
+Run solveEnergy(SolidShellModel& model, const SolidShellSettings& s, StabilityCheck& stability,
+                const ProgressCallback& progress) {
+  SolidShellEnergyProblem problem(model);
+  EnergyNewtonSettings e;
+  e.tolerance = s.tolerance;
+  e.max_iterations = s.max_iterations;
+  e.cancel = s.cancel;
+  const EnergyNewtonResult en = solveEnergyNewton(problem, e, progress);
+  stability = en.stability;
+  Run run;
+  run.converged = en.converged;
+  run.cancelled = en.cancelled;
+  run.status = en.status;
+  run.iterations = en.iterations;
+  run.residual = en.residual;
+  run.history = en.history;
+  return run;
+}
+
 // Seed 001 eq. (23): central differences with the lumped mass and Rayleigh damping alpha M; with
 // adaptivity, the mesh adapts every adapt_interval steps and once more before the run may end.
 Run solveDynamic(std::unique_ptr<SolidShellModel>& model, const DrapeProblem& problem,
@@ -370,7 +438,7 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
     throw InputError(
         "seams: the solid shell does not sew (use method fem_shell or particle for a garment with "
         "seams)");
-  if (settings.scheme == SolidShellScheme::kStatic) problem.checkStaticSupport();
+  if (settings.scheme != SolidShellScheme::kDynamic) problem.checkStaticSupport();
   std::optional<Adaptivity> adaptivity;
   if (settings.adaptive_levels > 0) {
     const SolidShellMesh level0 = solidShellMesh(problem);
@@ -387,19 +455,33 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
                                                                     problem.fabric->tensile_weft)
                                                          : problem.material.membraneStiffness());
   Run run;
-  if (settings.scheme == SolidShellScheme::kStatic) {
+  std::optional<StabilityCheck> stability;
+  if (settings.scheme != SolidShellScheme::kDynamic) {
     Eigen::AlignedBox3d box;
     for (const auto& x : problem.mesh.vertices) box.extend(x);
     const double lf = settings.free_length > 0.0 ? settings.free_length : box.sizes().maxCoeff();
-    run = solveStatic(*model, settings, lf, progress);
+    const auto solve = [&] {
+      if (settings.scheme == SolidShellScheme::kStatic)
+        return solveStatic(*model, settings, lf, progress);
+      stability.emplace();
+      return solveEnergy(*model, settings, *stability, progress);
+    };
+    run = solve();
     // Adaptive: each converged drape adapts the mesh and is solved again, until the mesh stays.
     for (int round = 0; adaptive && run.converged && round < 4 * settings.adaptive_levels;
          ++round) {
       Eigen::VectorXd D = model->freeState();
       if (!adapt(*adaptive, model, problem, settings, {&D})) break;
       const int before = run.iterations;
-      run = solveStatic(*model, settings, lf, progress);
+      run = solve();
       run.iterations += before;
+    }
+    // The seed's scheme finds an equilibrium, not necessarily a minimum: assess it as well.
+    if (settings.scheme == SolidShellScheme::kStatic && run.converged) {
+      Eigen::VectorXd R;
+      Eigen::SparseMatrix<double> K;
+      model->assemble(R, &K);
+      stability = checkStability(K);
     }
   } else {
     run = solveDynamic(model, problem, settings, k_contact, adaptive, progress);
@@ -436,6 +518,21 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
   }
   for (const auto& n : directors) r.directors.push_back(n.normalized());
   r.reactions = model->reactions();
+  if (stability && stability->computed) {
+    r.stability.assessed = true;
+    r.stability.lowest_eigenvalue = stability->lowest_eigenvalue;
+    r.stability.negative_eigenvalues = stability->negative_eigenvalues;
+    r.stability.stable = stability->stable;
+    r.stability.verdict = stability->stable ? "stable" : "unstable (saddle)";
+    if (!stability->stable && r.converged) {
+      r.converged = false;
+      r.status += "; but the equilibrium is unstable (a saddle: " +
+                  std::to_string(stability->negative_eigenvalues) +
+                  " negative eigenvalues of the tangent), not a drape";
+    }
+  } else if (stability) {
+    r.stability.verdict = "not assessed: not an equilibrium, or the eigenvalue solver failed";
+  }
   r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }

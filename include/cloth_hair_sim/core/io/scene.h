@@ -71,7 +71,7 @@ struct SceneOutput {
 //     {vertices: [..]}, {nearest: [x, y, z]}, {plane: {axis: x|y|z, value, tolerance}},
 //     {box: {min, max}}, {boundary: true}
 //   fem_shell: FemShellSettings fields by name (seam_steps for the seams)
-//   solid_shell: SolidShellSettings fields by name; scheme: static | dynamic,
+//   solid_shell: SolidShellSettings fields by name; scheme: static | dynamic | energy,
 //     thickness_strain: green | quasi_engineering; adaptive_levels (0-4), refine_threshold,
 //     merge_margin, adapt_interval for the adaptive 1-4 subdivision (results then come on the
 //     finest background mesh, the elements in use at the end in active_mesh.obj)

@@ -1,5 +1,6 @@
 #pragma once
 #include <array>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,8 +47,15 @@ class SolidShellModel {
   // Out-of-balance force R = P - F(D) - F_contact on the free unknowns and, if asked, the
   // tangent K = dF/dD (+ contact). Returns the strain energy.
   double assemble(Eigen::VectorXd& residual, Eigen::SparseMatrix<double>* tangent);
+  // Total potential energy: strain energy, less load_factor times the work of the nodal weights
+  // and loads, plus the penalty potential; its gradient is -residual (at load factor 1).
+  double potentialEnergy(double load_factor) const;
+  // The nodal weights and loads P on the free unknowns (the residual's load part).
+  Eigen::VectorXd loadVector() const;
   // D += dD on the free unknowns (D: the displacements U_o, U_n).
   void increment(const Eigen::VectorXd& dD);
+  // The largest move of a node's mid-surface point and of its director in an increment dD.
+  std::pair<double, double> largestIncrement(const Eigen::VectorXd& dD) const;
   Eigen::VectorXd freeState() const;
   void setFreeState(const Eigen::VectorXd& D);
   // True for a free unknown of a mid-surface position (false: a director component).
@@ -91,6 +99,7 @@ class SolidShellModel {
     double force, stiffness;
   };
   Penalty penalty(double gap) const;
+  double penaltyEnergy(double gap) const;  // the integral of penalty(gap).force over penetration
 
   // Fixed sparsity of K and where each element entry lands (-1: constrained).
   Eigen::SparseMatrix<double> pattern_;
