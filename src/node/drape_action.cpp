@@ -33,6 +33,8 @@ void DrapeAction::execute(const cloth_hair_sim::DrapeSolveGoalConstPtr& goal) {
   req.tolerance = goal->tolerance;
   req.max_iterations = goal->max_iterations;
   req.stabilization = goal->stabilization;
+  req.scheme = goal->scheme;
+  req.adaptive_levels = goal->adaptive_levels;
 
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();

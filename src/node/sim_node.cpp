@@ -1043,6 +1043,8 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
     if (!(req.stabilization >= 0.0) || !std::isfinite(req.stabilization))
       throw chs::InputError("stabilization must be >= 0");
     problem.checkStaticSupport();
+    if (method != chs::DrapeMethod::kSolidShell && (!req.scheme.empty() || req.adaptive_levels != 0))
+      throw chs::InputError("scheme and adaptive_levels apply to method solid_shell only");
     chs::DrapeResult r;
     if (method == chs::DrapeMethod::kFemShell) {
       chs::FemShellSettings s;
@@ -1053,6 +1055,10 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
       r = chs::solveFemShell(problem, s, progress);
     } else if (method == chs::DrapeMethod::kSolidShell) {
       chs::SolidShellSettings s;
+      // The energy scheme by default: the seed's multiplier scheme does not settle a cloth over a
+      // table's edge (docs/VALIDATION.md).
+      s.scheme = chs::parseSolidShellScheme(req.scheme.empty() ? "energy" : req.scheme);
+      s.adaptive_levels = req.adaptive_levels;
       if (req.tolerance > 0.0) s.tolerance = req.tolerance;
       if (req.max_iterations > 0) s.max_iterations = req.max_iterations;
       s.cancel = cancel;
@@ -1069,10 +1075,14 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
     res.iterations = r.iterations;
     res.residual = r.residual;
     res.message = who + r.status;
-    const bool complete = static_cast<int>(r.positions.size()) == problem.mesh.numVertices() &&
+    // An adaptive solid shell answers on its finest background mesh, whose first vertices are
+    // the garment's own (adaptive_mesh.h): the garment takes those.
+    const chs::QuadMesh& solved = r.refined_mesh ? *r.refined_mesh : problem.mesh;
+    const bool complete = static_cast<int>(r.positions.size()) == solved.numVertices() &&
                           std::all_of(r.positions.begin(), r.positions.end(),
                                       [](const Eigen::Vector3d& x) { return x.allFinite(); });
-    if (complete) res.mesh = meshMessage(problem.mesh, r.positions);
+    if (complete) res.mesh = meshMessage(solved, r.positions);
+    r.positions.resize(std::min<std::size_t>(r.positions.size(), problem.mesh.numVertices()));
     if (r.converged && complete) {
       const WorldLock lock(*this);
       const auto it = garments_.find(req.garment);

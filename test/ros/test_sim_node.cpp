@@ -516,6 +516,44 @@ TEST_F(SimNodeTest, DrapesATableclothOverTheTfTable) {
   drape.request.stabilization = 0.0;
   ASSERT_TRUE(ros::service::call("/sim/drape_solve", drape));
   EXPECT_TRUE(drape.response.success) << drape.response.message;
+
+  // So does the solid shell (its energy scheme by default), and with one level of adaptive
+  // subdivision it answers on the refined mesh; the garment keeps its own vertices.
+  const auto lowestZ = [](const shape_msgs::Mesh& m) {
+    double lo = 1e9;
+    for (const auto& p : m.vertices) lo = std::min(lo, p.z);
+    return lo - kTableTop;
+  };
+  drape.request.method = "solid_shell";
+  for (int levels : {0, 1}) {
+    drape.request.adaptive_levels = levels;
+    ASSERT_TRUE(ros::service::call("/sim/drape_solve", drape));
+    const auto& s = drape.response;
+    ASSERT_TRUE(s.success) << s.message;
+    const std::size_t side = (levels == 0 ? n : 2 * n) + 1;
+    EXPECT_EQ(s.mesh.vertices.size(), side * side);
+    std::printf("[figure] solid shell, %d adaptive levels: %s; lowest point %.4f m, %.2f s\n",
+                levels, s.message.c_str(), lowestZ(s.mesh), s.wall_time);
+    EXPECT_LT(lowestZ(s.mesh), -0.03);
+    EXPECT_GT(lowestZ(s.mesh), -0.12);
+  }
+  // Bad input: a level beyond the limit, a scheme that does not exist, a scheme for the FEM shell.
+  drape.request.adaptive_levels = 5;
+  ASSERT_TRUE(ros::service::call("/sim/drape_solve", drape));
+  EXPECT_FALSE(drape.response.success);
+  EXPECT_NE(drape.response.message.find("adaptive_levels"), std::string::npos)
+      << drape.response.message;
+  drape.request.adaptive_levels = 0;
+  drape.request.scheme = "implicit";
+  ASSERT_TRUE(ros::service::call("/sim/drape_solve", drape));
+  EXPECT_FALSE(drape.response.success);
+  EXPECT_NE(drape.response.message.find("scheme"), std::string::npos) << drape.response.message;
+  drape.request.method = "fem_shell";
+  drape.request.scheme = "energy";
+  ASSERT_TRUE(ros::service::call("/sim/drape_solve", drape));
+  EXPECT_FALSE(drape.response.success);
+  EXPECT_NE(drape.response.message.find("solid_shell only"), std::string::npos)
+      << drape.response.message;
   EXPECT_TRUE(remove("tablecloth"));
 }
 

@@ -371,11 +371,11 @@ SolidShellSettings parseSolidShell(const YAML::Node& node) {
   Section s(node, "solid_shell");
   SolidShellSettings o;
   const std::string scheme = s.text("scheme", "static");
-  if (scheme != "static" && scheme != "dynamic" && scheme != "energy")
+  try {
+    o.scheme = parseSolidShellScheme(scheme);
+  } catch (const InputError&) {
     fail(s.key("scheme"), "must be static, dynamic or energy, got '" + scheme + "'");
-  o.scheme = scheme == "static"    ? SolidShellScheme::kStatic
-             : scheme == "dynamic" ? SolidShellScheme::kDynamic
-                                   : SolidShellScheme::kEnergy;
+  }
   const std::string strain = s.text("thickness_strain", "green");
   if (strain != "green" && strain != "quasi_engineering")
     fail(s.key("thickness_strain"), "must be green or quasi_engineering, got '" + strain + "'");

@@ -399,6 +399,13 @@ Run solveDynamic(std::unique_ptr<SolidShellModel>& model, const DrapeProblem& pr
 
 }  // namespace
 
+SolidShellScheme parseSolidShellScheme(const std::string& name) {
+  if (name == "static") return SolidShellScheme::kStatic;
+  if (name == "dynamic") return SolidShellScheme::kDynamic;
+  if (name == "energy") return SolidShellScheme::kEnergy;
+  throw InputError("solid_shell.scheme must be static, dynamic or energy, got '" + name + "'");
+}
+
 void validateSolidShellSettings(const SolidShellSettings& s) {
   auto positive = [](double v, const char* name) {
     if (!(v > 0.0) || !std::isfinite(v))

@@ -1,4 +1,6 @@
 #pragma once
+#include <string>
+
 #include "cloth_hair_sim/core/common/cancel_flag.h"
 #include "cloth_hair_sim/core/drape/drape_problem.h"
 #include "cloth_hair_sim/core/solid_shell/solid_shell_element.h"
@@ -47,6 +49,9 @@ struct SolidShellSettings {
   int progress_interval = 100;    // iterations (steps) between progress events
   const CancelFlag* cancel = nullptr;
 };
+
+// "static", "dynamic" or "energy"; InputError otherwise.
+SolidShellScheme parseSolidShellScheme(const std::string& name);
 
 // Throws InputError naming the setting that makes no sense.
 void validateSolidShellSettings(const SolidShellSettings& settings);
