@@ -1043,7 +1043,8 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
     if (!(req.stabilization >= 0.0) || !std::isfinite(req.stabilization))
       throw chs::InputError("stabilization must be >= 0");
     problem.checkStaticSupport();
-    if (method != chs::DrapeMethod::kSolidShell && (!req.scheme.empty() || req.adaptive_levels != 0))
+    if (method != chs::DrapeMethod::kSolidShell &&
+        (!req.scheme.empty() || req.adaptive_levels != 0))
       throw chs::InputError("scheme and adaptive_levels apply to method solid_shell only");
     chs::DrapeResult r;
     if (method == chs::DrapeMethod::kFemShell) {

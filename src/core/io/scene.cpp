@@ -396,6 +396,7 @@ SolidShellSettings parseSolidShell(const YAML::Node& node) {
   o.refine_threshold = s.number("refine_threshold", o.refine_threshold);
   o.merge_margin = s.number("merge_margin", o.merge_margin);
   o.adapt_interval = s.integer("adapt_interval", o.adapt_interval, 1);
+  o.adapt_iterations = s.integer("adapt_iterations", o.adapt_iterations, 1);
   s.done();
   try {
     validateSolidShellSettings(o);
@@ -577,7 +578,8 @@ std::vector<std::pair<std::string, double>> settingsList(const SolidShellSetting
           {"adaptive_levels", s.adaptive_levels},
           {"refine_threshold", s.refine_threshold},
           {"merge_margin", s.merge_margin},
-          {"adapt_interval", s.adapt_interval}};
+          {"adapt_interval", s.adapt_interval},
+          {"adapt_iterations", s.adapt_iterations}};
 }
 
 std::vector<std::pair<std::string, double>> materialList(const WovenFabric& f) {

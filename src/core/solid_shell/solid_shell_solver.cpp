@@ -430,7 +430,8 @@ void validateSolidShellSettings(const SolidShellSettings& s) {
     positive(s.refine_threshold, "refine_threshold");
     if (!(s.merge_margin > 0.0 && s.merge_margin < s.refine_threshold))
       throw InputError("solid_shell.merge_margin must lie in (0, refine_threshold)");
-    if (s.adapt_interval < 1) throw InputError("solid_shell.adapt_interval must be positive");
+    if (s.adapt_interval < 1 || s.adapt_iterations < 1)
+      throw InputError("solid_shell.adapt_interval and adapt_iterations must be positive");
   }
   if (s.max_iterations < 1 || s.progress_interval < 1)
     throw InputError("solid_shell.max_iterations and progress_interval must be positive");
@@ -467,13 +468,31 @@ DrapeResult solveSolidShell(const DrapeProblem& problem, const SolidShellSetting
     Eigen::AlignedBox3d box;
     for (const auto& x : problem.mesh.vertices) box.extend(x);
     const double lf = settings.free_length > 0.0 ? settings.free_length : box.sizes().maxCoeff();
-    const auto solve = [&] {
-      if (settings.scheme == SolidShellScheme::kStatic)
-        return solveStatic(*model, settings, lf, progress);
+    const auto solve_with = [&](const SolidShellSettings& ss) {
+      if (ss.scheme == SolidShellScheme::kStatic) return solveStatic(*model, ss, lf, progress);
       stability.emplace();
-      return solveEnergy(*model, settings, *stability, progress);
+      return solveEnergy(*model, ss, *stability, progress);
     };
-    run = solve();
+    const auto solve = [&] { return solve_with(settings); };
+    int used = 0;
+    if (adaptive && settings.scheme == SolidShellScheme::kEnergy) {
+      // The descent adapts as it goes, every adapt_iterations Newton iterations: solved to the end
+      // on the coarse mesh first, the sheet folds over more sharply than the mesh can follow and
+      // stays so (120 reversed directors on the pedestal, 385 on the sphere).
+      SolidShellSettings chunk = settings;
+      chunk.max_iterations = std::min(settings.adapt_iterations, settings.max_iterations);
+      for (;;) {
+        run = solve_with(chunk);
+        used += run.iterations;
+        if (run.converged || run.cancelled || used >= settings.max_iterations) break;
+        Eigen::VectorXd D = model->freeState();
+        if (!adapt(*adaptive, model, problem, settings, {&D})) break;
+      }
+    }
+    if (!run.cancelled) {
+      run = solve();
+      run.iterations += used;
+    }
     // Adaptive: each converged drape adapts the mesh and is solved again, until the mesh stays.
     for (int round = 0; adaptive && run.converged && round < 4 * settings.adaptive_levels;
          ++round) {

@@ -73,8 +73,9 @@ struct SceneOutput {
 //   fem_shell: FemShellSettings fields by name (seam_steps for the seams)
 //   solid_shell: SolidShellSettings fields by name; scheme: static | dynamic | energy,
 //     thickness_strain: green | quasi_engineering; adaptive_levels (0-4), refine_threshold,
-//     merge_margin, adapt_interval for the adaptive 1-4 subdivision (results then come on the
-//     finest background mesh, the elements in use at the end in active_mesh.obj)
+//     merge_margin, adapt_interval (dynamic), adapt_iterations (energy) for the adaptive 1-4
+//     subdivision (results then come on the finest background mesh, the elements in use at the
+//     end in active_mesh.obj)
 //   particle: ParticleSettings fields by name (numbers and restart; sewing_stiffness,
 //     seam_join_distance, max_sewing_iterations for the seams), with stretch_compression and
 //     shear_compression for the network's D' and B'

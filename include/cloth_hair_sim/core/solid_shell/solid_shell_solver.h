@@ -40,12 +40,14 @@ struct SolidShellSettings {
   // quads are level 0, split at most adaptive_levels times (0: the mesh stays as given). An
   // element splits where |eps_b| L_i > refine_threshold (eq. (25)); four siblings merge where
   // each has |eps_b| L_(i-1) <= refine_threshold - merge_margin (eq. (26)). The dynamic scheme
-  // adapts every adapt_interval steps; the static scheme adapts each converged drape and solves
-  // again until the mesh stays.
+  // adapts every adapt_interval steps, the energy scheme every adapt_iterations Newton
+  // iterations of its descent; the static and energy schemes then adapt each converged drape and
+  // solve again until the mesh stays.
   int adaptive_levels = 0;
   double refine_threshold = 0.2;  // const of eq. (25): the bend [rad] an element may take
   double merge_margin = 0.1;      // epsilon of eq. (26)
   int adapt_interval = 500;       // steps
+  int adapt_iterations = 10;      // Newton iterations
   int progress_interval = 100;    // iterations (steps) between progress events
   const CancelFlag* cancel = nullptr;
 };
