@@ -80,6 +80,33 @@ TEST(FemShellStability, LowestEigenvalueMatchesADenseSolver) {
   EXPECT_LT(ref, 0.0);
 }
 
+// A negative eigenvalue behind a cluster of tiny positive ones (as a folding sheet's tangent
+// has): the eigenvalues nearest zero are all positive, the inertia counts one below. The lowest
+// must still be found, with its mode (the saddle escape moves along it). Built as Q diag(l) Q^T
+// with unit diagonal, so the check's scaling leaves the spectrum as built.
+TEST(FemShellStability, NegativeEigenvalueBehindTinyPositiveOnesIsFound) {
+  const int n = 40;
+  Eigen::VectorXd l = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0);
+  l[0] = -1e-3;
+  for (int i = 1; i < 12; ++i) l[i] = 1e-7 * i;  // 11 eigenvalues nearer zero than the negative
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Random(n, n).householderQr().householderQ();
+  Eigen::MatrixXd A = Q * l.asDiagonal() * Q.transpose();
+  // Rescale to unit diagonal: a congruence (same inertia); the reference is A's own spectrum.
+  const Eigen::VectorXd d = A.diagonal().cwiseAbs().cwiseSqrt().cwiseInverse();
+  A = d.asDiagonal() * A * d.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> dense(A);
+  const StabilityCheck c = checkStability(A.sparseView());
+  ASSERT_TRUE(c.computed);
+  const double residual =
+      (A * (c.mode / c.mode.norm()) - c.lowest_eigenvalue * c.mode / c.mode.norm()).norm();
+  std::printf("lowest eigenvalue %.6e (dense %.6e), negative %d, mode residual %.2e\n",
+              c.lowest_eigenvalue, dense.eigenvalues()[0], c.negative_eigenvalues, residual);
+  EXPECT_EQ(c.negative_eigenvalues, 1);
+  EXPECT_FALSE(c.stable);
+  EXPECT_NEAR(c.lowest_eigenvalue, dense.eigenvalues()[0], 1e-8);
+  EXPECT_LT(residual, 1e-8);
+}
+
 TEST(FemShellStability, StraightStrutIsStableBelowEulersLoadAndASaddleAbove) {
   // Path following keeps the strut straight; the stability check decides.
   const DrapeResult below = solveStrut(0.9 * kEuler, FemShellMethod::kArcLength);

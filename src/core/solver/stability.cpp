@@ -65,6 +65,28 @@ StabilityCheck checkStability(const Eigen::SparseMatrix<double>& K) {
     // Sorted ascending: the first is the lowest found.
     out.lowest_eigenvalue = eigs.eigenvalues()[0];
     out.mode = scale.asDiagonal() * eigs.eigenvectors().col(0);
+    if (out.negative_eigenvalues > 0 && out.lowest_eigenvalue >= 0.0) {
+      // The inertia counts a negative eigenvalue that the eigenvalues nearest zero do not hold
+      // (a cluster of tiny positive ones around a folding sheet's mode). Bracket the lowest by
+      // inertia, S - sigma I without a negative pivot for the first sigma = -1e-10, -1e-9, ...,
+      // so that it lies in [sigma, sigma / 10): the eigenvalue nearest sigma is the lowest.
+      for (double sigma = -1e-10; sigma >= -10.0; sigma *= 10.0) {
+        ShiftInvertLdlt below(S);
+        below.set_shift(sigma);
+        if (below.ldlt().info() != Eigen::Success || (below.ldlt().vectorD().array() < 0.0).any())
+          continue;
+        Spectra::SymEigsShiftSolver<ShiftInvertLdlt> lowest(below, 1, std::min<Eigen::Index>(n, 20),
+                                                            sigma);
+        lowest.init();
+        lowest.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10,
+                       Spectra::SortRule::SmallestAlge);
+        if (lowest.info() == Spectra::CompInfo::Successful) {
+          out.lowest_eigenvalue = lowest.eigenvalues()[0];
+          out.mode = scale.asDiagonal() * lowest.eigenvectors().col(0);
+        }
+        break;
+      }
+    }
   }
   out.computed = true;
   out.stable = out.negative_eigenvalues == 0 && out.lowest_eigenvalue > 0.0;
