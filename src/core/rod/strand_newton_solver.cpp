@@ -18,6 +18,10 @@ namespace {
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
+// A full true-Newton step this small, times sqrt(tolerance), ends the solve (below): with a
+// convergence constant up to 1 / kQuadratic^2 the error left is still within the tolerance.
+constexpr double kQuadratic = 0.1;
+
 Mat3 crossMatrix(const Vec3& a) {
   Mat3 m;
   m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
@@ -193,7 +197,8 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       lengths[j] = (q.segment<3>(DiscreteElasticRod::vertexDof(rod.edgeEnd(j))) -
                     q.segment<3>(DiscreteElasticRod::vertexDof(j)))
                        .norm();
-    if (!(result.iterations > 0 && newtonStep(false, dq)) && !newtonStep(true, dq)) break;
+    const bool exact = result.iterations > 0 && newtonStep(false, dq);
+    if (!exact && !newtonStep(true, dq)) break;
     double step = 0.0;
     for (int i = 0; i < nv; ++i)
       step = std::max(step, dq.segment<3>(DiscreteElasticRod::vertexDof(i)).norm() / mean_segment);
@@ -203,7 +208,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
     // Armijo backtracking; the slack of a few ulps of Phi lets the last, tiny steps through
     // where Phi no longer resolves the decrease.
     const double slope = g.dot(dq), slack = 1e-14 * std::abs(value);
-    bool accepted = false;
+    bool accepted = false, full_step = false;
     for (double alpha = 1.0; alpha > 1e-10 && !accepted; alpha *= 0.5) {
       const Eigen::VectorXd plain = q + alpha * dq;
       const bool retracting = alpha * step > small_turn;
@@ -218,6 +223,7 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
         if (retracting && !take_turned) rod.setConfiguration(q);
         value = v;
         accepted = true;
+        full_step = alpha == 1.0 && !take_turned;
         rod.commit();
         phi_now = tipAngle(q);
         tip_now = planar(q);
@@ -227,7 +233,11 @@ StrandNewtonResult solveStrand(DiscreteElasticRod& rod, const StrandLoads& loads
       rod.setConfiguration(q);
       break;
     }
-    if (step <= settings.tolerance) {
+    // Converged: a step within the tolerance, or a full step of the true Newton iteration within
+    // sqrt(tolerance) times kQuadratic: quadratic convergence leaves an error of the order of that
+    // step squared, and the iteration that would confirm it is not taken.
+    const double quadratic = kQuadratic * std::sqrt(settings.tolerance);
+    if (step <= settings.tolerance || (exact && full_step && step <= quadratic)) {
       result.converged = true;
       ++result.iterations;
       break;

@@ -32,7 +32,9 @@ struct StrandLoads {
 
 struct StrandNewtonSettings {
   // Converged when a full Newton step moves no vertex by more than tolerance times the mean
-  // segment length and no angle by more than tolerance [rad].
+  // segment length and no angle by more than tolerance [rad], or when a full step of the true
+  // Newton iteration stays within 0.1 sqrt(tolerance) so measured (quadratic convergence leaves
+  // an error of the order of its square: the confirming iteration is skipped).
   double tolerance = 1e-9;
   int max_iterations = 30;
 };
