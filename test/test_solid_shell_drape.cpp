@@ -34,6 +34,21 @@ DrapeProblem femCounterpart(const Scene& scene, int along) {
   return p;
 }
 
+// Seed 001 section 3.2's set-up on a coarse mesh: a 20 x 20 cm wool sheet on a 10 x 10 cm table,
+// 8 x 8 quads, held from sliding and spinning on the frictionless top; solid_shell settings given.
+Scene sheetOnTable(const std::string& solid_shell) {
+  return parseScene(
+      "method: solid_shell\ngravity: [0, 0, -9.80665]\n"
+      "garment: {rectangle: {size: [0.2, 0.2], cells: [8, 8], centre: [0, 0, 0]}}\n"
+      "material: {woven: wool_suiting_kes, warp: [1, 0, 0]}\n"
+      "colliders: [{table: {top_centre: [0, 0, 0], size: [0.1, 0.1], depth: 0.2}}]\n"
+      "boundary: {fixed: [{vertices: {nearest: [0, 0, 0]}, axes: [x, y]},\n"
+      "                   {vertices: {nearest: [0.1, 0, 0]}, axes: [y]}]}\n"
+      "solid_shell: " +
+          solid_shell + "\n",
+      "", "sheet");
+}
+
 // Section 3.1, Fig. 4(b): side views of the 5 cm warp and weft strips under their own weight,
 // solid shell (seed multiplier scheme) against the FEM shell on the same 10 x 1 and 20 x 1 meshes.
 TEST(SolidShellDrape, ClampedWarpAndWeftStripsAgainstFemShell) {
@@ -168,15 +183,7 @@ TEST(SolidShellDrape, EnergySchemeMatchesTheSeedsStaticScheme) {
 // The table case the seed's scheme does not settle (below: dynamic relaxation, 1e5 explicit
 // steps): the energy scheme converges to a stable drape whose contact reactions carry the weight.
 TEST(SolidShellDrape, SheetOnTableByEnergyMinimisation) {
-  Scene scene = parseScene(
-      "method: solid_shell\ngravity: [0, 0, -9.80665]\n"
-      "garment: {rectangle: {size: [0.2, 0.2], cells: [8, 8], centre: [0, 0, 0]}}\n"
-      "material: {woven: wool_suiting_kes, warp: [1, 0, 0]}\n"
-      "colliders: [{table: {top_centre: [0, 0, 0], size: [0.1, 0.1], depth: 0.2}}]\n"
-      "boundary: {fixed: [{vertices: {nearest: [0, 0, 0]}, axes: [x, y]},\n"
-      "                   {vertices: {nearest: [0.1, 0, 0]}, axes: [y]}]}\n"
-      "solid_shell: {scheme: energy, tolerance: 1.0e-8, contact_stiffness: 1.0e4}\n",
-      "", "sheet");
+  const Scene scene = sheetOnTable("{scheme: energy, tolerance: 1.0e-8, contact_stiffness: 1.0e4}");
   const DrapeResult r = solveSolidShell(scene.problem, scene.solid_shell);
   ASSERT_TRUE(r.converged) << r.status;
   double lowest = 0.0, deepest = 0.0, carried = 0.0;
@@ -204,16 +211,9 @@ TEST(SolidShellDrape, SheetOnTableByEnergyMinimisation) {
 // the default 100 x the tensile rigidity doubles the stable time step; the penetration stays
 // below 0.1 mm.
 TEST(SolidShellDrape, SheetOnTableByDynamicRelaxation) {
-  Scene scene = parseScene(
-      "method: solid_shell\ngravity: [0, 0, -9.80665]\n"
-      "garment: {rectangle: {size: [0.2, 0.2], cells: [8, 8], centre: [0, 0, 0]}}\n"
-      "material: {woven: wool_suiting_kes, warp: [1, 0, 0]}\n"
-      "colliders: [{table: {top_centre: [0, 0, 0], size: [0.1, 0.1], depth: 0.2}}]\n"
-      "boundary: {fixed: [{vertices: {nearest: [0, 0, 0]}, axes: [x, y]},\n"
-      "                   {vertices: {nearest: [0.1, 0, 0]}, axes: [y]}]}\n"
-      "solid_shell: {scheme: dynamic, mass_scaling: 100, damping: 2, tolerance: 2.0e-3,\n"
-      "              end_time: 30, contact_stiffness: 1.0e4}\n",
-      "", "sheet");
+  const Scene scene = sheetOnTable(
+      "{scheme: dynamic, mass_scaling: 100, damping: 2, tolerance: 2.0e-3, end_time: 30, "
+      "contact_stiffness: 1.0e4}");
   const DrapeResult r = solveSolidShell(scene.problem, scene.solid_shell);
   ASSERT_TRUE(r.converged) << r.status;
   double lowest = 0.0, deepest = 0.0;
