@@ -12,6 +12,11 @@
 // continuum on the grid (Han 4.3-4.6, HairSettings::continuum, its contact blend; part of
 // "grid"), 2 the same with Han's xi = 0.95 everywhere.
 //
+// hairOnWalkingHead: the same head walking (from standing to 1.2 m/s forward over 0.25 s, a 2 cm
+// bob at 2 Hz, a 2 cm sway and a 10 degree yaw at 1 Hz, as a head over a walking gait), the roots
+// carried by it and the sphere its collider with its velocity; each 1/60 s frame takes the steps
+// the hair's CFL bound asks for (at most 1/120 s). Arguments: {strands, TBB threads}.
+//
 // fallingBundles: Han's Fig. 4.7 scaled down (as test_rod_strand_collisions): a bundle of n x n
 // free 4 cm strands (16 segments, 1 mm apart) falling from 8 mm onto a crossing bundle of n x n
 // clamped ones, 72 steps of 1/240 s per iteration; the cost per step of the collision stage and
@@ -123,6 +128,95 @@ BENCHMARK(hairFrame)
     ->Args({1000, 1, 0})
     ->Args({1000, 2, 0})
     ->Iterations(10)  // the same frames in every run, so that builds compare
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The walking head's pose at time t and its velocity there (linear, angular about its centre).
+struct HeadMotion {
+  Eigen::Isometry3d pose;
+  chs::SurfaceVelocity velocity;
+};
+HeadMotion walkingHead(double t) {
+  constexpr double kSpeed = 1.2, kRamp = 0.25, kBob = 0.02, kSway = 0.02;
+  constexpr double kYaw = 10.0 * M_PI / 180.0, w = 2.0 * M_PI;  // 1 Hz: the stride; bob at 2 Hz
+  HeadMotion m;
+  // From standing, the forward speed rises linearly over kRamp seconds.
+  const double forward = t < kRamp ? 0.5 * kSpeed * t * t / kRamp : kSpeed * (t - 0.5 * kRamp);
+  const Vec3 centre(forward, kSway * std::sin(w * t), kBob * std::sin(2.0 * w * t));
+  m.pose = Eigen::Translation3d(centre) * Eigen::AngleAxisd(kYaw * std::sin(w * t), Vec3::UnitZ());
+  m.velocity.origin = centre;
+  m.velocity.linear = Vec3(kSpeed * std::min(1.0, t / kRamp), kSway * w * std::cos(w * t),
+                           kBob * 2.0 * w * std::cos(2.0 * w * t));
+  m.velocity.angular = Vec3(0.0, 0.0, kYaw * w * std::cos(w * t));
+  return m;
+}
+
+void hairOnWalkingHead(benchmark::State& state) {
+  const int strands = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
+  chs::WorldSettings ws;
+  ws.grid_spacing = 0.01;
+  chs::World world(ws);
+  auto hair = headOfHair(strands, 0);
+  world.add("hair", hair);
+  world.setColliders({std::make_shared<chs::SphereSurface>(Vec3::Zero(), kHead)});
+  for (int i = 0; i < 30; ++i) world.step(1.0 / 120.0);  // the hair falls onto the still head
+  const double frame = 1.0 / 60.0;
+  double t = 0.0, t_solve = 0.0, t_to = 0.0, t_grid = 0.0, t_from = 0.0, t_collide = 0.0;
+  int frames = 0, steps = 0;
+  double collision_passes = 0.0, zone_passes = 0.0, newton = 0.0;
+  for (auto _ : state) {
+    for (double left = frame; left > 1e-12;) {
+      const double dt = std::min({left, 1.0 / 120.0, hair->stableTimeStep()});
+      // The roots' clamps move to the head's pose at the step's end; the collider is the sphere
+      // where the head is now, moving with its velocity.
+      const HeadMotion now = walkingHead(t), next = walkingHead(t + dt);
+      for (int s = 0; s < hair->numStrands(); ++s) hair->setRootFrame(s, next.pose);
+      world.setColliders({std::make_shared<chs::SphereSurface>(now.pose.translation(), kHead)},
+                         {now.velocity});
+      auto c = chs::bench::Clock::now();
+      hair->beginStep(dt);
+      t_solve += chs::bench::secondsSince(c);
+      c = chs::bench::Clock::now();
+      hair->transferToGrid();
+      t_to += chs::bench::secondsSince(c);
+      c = chs::bench::Clock::now();
+      hair->updateGrid(dt);
+      t_grid += chs::bench::secondsSince(c);
+      c = chs::bench::Clock::now();
+      hair->transferFromGrid(dt);
+      hair->endStep(dt);
+      t_from += chs::bench::secondsSince(c);
+      const chs::rod::StrandCollisionStats& cs = hair->lastStrandCollisions();
+      t_collide += cs.seconds;
+      collision_passes += cs.collision_passes;
+      zone_passes += cs.zone_passes;
+      newton += static_cast<double>(hair->lastTotalNewtonIterations()) / strands;
+      t += dt;
+      left -= dt;
+      ++steps;
+    }
+    ++frames;
+  }
+  const double wall = t_solve + t_to + t_grid + t_from;
+  state.counters["ms_frame"] = 1e3 * wall / frames;
+  state.counters["steps_frame"] = static_cast<double>(steps) / frames;
+  state.counters["ms_rod_solve"] = 1e3 * t_solve / frames;
+  state.counters["ms_to_grid"] = 1e3 * t_to / frames;
+  state.counters["ms_grid"] = 1e3 * t_grid / frames;
+  state.counters["ms_from_grid"] = 1e3 * t_from / frames;
+  state.counters["ms_collisions"] = 1e3 * t_collide / frames;
+  state.counters["real_time_factor"] = frames * frame / wall;
+  state.counters["newton_per_strand_step"] = newton / steps;
+  state.counters["collision_passes"] = collision_passes / steps;  // per step, as hairFrame's
+  state.counters["zone_passes"] = zone_passes / steps;
+  state.counters["seg_frames_per_core_s"] =
+      static_cast<double>(strands) * kSegments * frames / (wall * threads);
+}
+BENCHMARK(hairOnWalkingHead)
+    ->Args({100, 2})
+    ->Args({1000, 2})
+    ->Iterations(30)  // half a second of walking
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
