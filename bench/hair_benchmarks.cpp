@@ -64,6 +64,57 @@ std::shared_ptr<chs::rod::HairDynamics> headOfHair(int strands, int continuum) {
   return hair;
 }
 
+// One step of the world's stages for its one body (no contact between fields), timed per stage,
+// with the strand solve's and the strand collisions' counts.
+struct StageTimes {
+  double solve = 0.0, to_grid = 0.0, grid = 0.0, from_grid = 0.0, collisions = 0.0;
+  double candidates = 0.0, collision_passes = 0.0, zone_passes = 0.0, newton = 0.0;
+  int steps = 0, max_newton = 0;
+
+  void step(chs::rod::HairDynamics& hair, double dt) {
+    auto t = chs::bench::Clock::now();
+    hair.beginStep(dt);
+    solve += chs::bench::secondsSince(t);
+    t = chs::bench::Clock::now();
+    hair.transferToGrid();
+    to_grid += chs::bench::secondsSince(t);
+    t = chs::bench::Clock::now();
+    hair.updateGrid(dt);
+    grid += chs::bench::secondsSince(t);
+    t = chs::bench::Clock::now();
+    hair.transferFromGrid(dt);
+    hair.endStep(dt);
+    from_grid += chs::bench::secondsSince(t);
+    const chs::rod::StrandCollisionStats& c = hair.lastStrandCollisions();
+    collisions += c.seconds;
+    candidates += c.candidate_pairs;
+    collision_passes += c.collision_passes;
+    zone_passes += c.zone_passes;
+    max_newton = std::max(max_newton, hair.lastNewtonIterations());
+    newton += static_cast<double>(hair.lastTotalNewtonIterations()) / hair.numStrands();
+    ++steps;
+  }
+  double wall() const { return solve + to_grid + grid + from_grid; }
+  // Per frame: wall time and its stages, segment-frames per core-second; per step: Newton
+  // iterations per strand, the broad phase's pairs, the collision passes with impulses, the zone
+  // passes.
+  void report(benchmark::State& state, int frames, int strands, int threads) const {
+    state.counters["ms_frame"] = 1e3 * wall() / frames;
+    state.counters["ms_rod_solve"] = 1e3 * solve / frames;
+    state.counters["ms_to_grid"] = 1e3 * to_grid / frames;
+    state.counters["ms_grid"] = 1e3 * grid / frames;
+    state.counters["ms_from_grid"] = 1e3 * from_grid / frames;
+    state.counters["ms_collisions"] = 1e3 * collisions / frames;
+    state.counters["seg_frames_per_core_s"] =
+        static_cast<double>(strands) * kSegments * frames / (wall() * threads);
+    state.counters["max_newton"] = max_newton;
+    state.counters["newton_per_strand_step"] = newton / steps;
+    state.counters["candidates"] = candidates / steps;
+    state.counters["collision_passes"] = collision_passes / steps;
+    state.counters["zone_passes"] = zone_passes / steps;
+  }
+};
+
 void hairFrame(benchmark::State& state) {
   const int strands = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
   tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
@@ -75,50 +126,13 @@ void hairFrame(benchmark::State& state) {
   world.setColliders({std::make_shared<chs::SphereSurface>(Vec3::Zero(), kHead)});
   const double dt = 1.0 / 120.0;
   for (int i = 0; i < 30; ++i) world.step(dt);  // the hair falls onto the head
-  double t_solve = 0.0, t_to = 0.0, t_grid = 0.0, t_from = 0.0, t_collide = 0.0;
-  int frames = 0, newton = 0;
-  double candidates = 0.0, collision_passes = 0.0, zone_passes = 0.0, iterations = 0.0;
+  StageTimes times;
+  int frames = 0;
   for (auto _ : state) {
-    for (int sub = 0; sub < 2; ++sub) {
-      // The world's stages for its one body (no contact between fields).
-      auto t = chs::bench::Clock::now();
-      hair->beginStep(dt);
-      t_solve += chs::bench::secondsSince(t);
-      t = chs::bench::Clock::now();
-      hair->transferToGrid();
-      t_to += chs::bench::secondsSince(t);
-      t = chs::bench::Clock::now();
-      hair->updateGrid(dt);
-      t_grid += chs::bench::secondsSince(t);
-      t = chs::bench::Clock::now();
-      hair->transferFromGrid(dt);
-      hair->endStep(dt);
-      t_from += chs::bench::secondsSince(t);
-      const chs::rod::StrandCollisionStats& c = hair->lastStrandCollisions();
-      t_collide += c.seconds;
-      candidates += c.candidate_pairs;
-      collision_passes += c.collision_passes;
-      zone_passes += c.zone_passes;
-      newton = std::max(newton, hair->lastNewtonIterations());
-      iterations += static_cast<double>(hair->lastTotalNewtonIterations()) / strands;
-    }
+    for (int sub = 0; sub < 2; ++sub) times.step(*hair, dt);
     ++frames;
   }
-  const double wall = t_solve + t_to + t_grid + t_from;
-  state.counters["ms_frame"] = 1e3 * wall / frames;
-  state.counters["ms_rod_solve"] = 1e3 * t_solve / frames;
-  state.counters["ms_to_grid"] = 1e3 * t_to / frames;
-  state.counters["ms_grid"] = 1e3 * t_grid / frames;
-  state.counters["ms_from_grid"] = 1e3 * t_from / frames;
-  state.counters["ms_collisions"] = 1e3 * t_collide / frames;
-  state.counters["seg_frames_per_core_s"] =
-      static_cast<double>(strands) * kSegments * frames / (wall * threads);
-  state.counters["max_newton"] = newton;
-  state.counters["newton_per_strand_step"] = iterations / (2 * frames);
-  // Per step: the broad phase's pairs, the collision passes with impulses, the zone passes.
-  state.counters["candidates"] = candidates / (2 * frames);
-  state.counters["collision_passes"] = collision_passes / (2 * frames);
-  state.counters["zone_passes"] = zone_passes / (2 * frames);
+  times.report(state, frames, strands, threads);
 }
 BENCHMARK(hairFrame)
     ->Args({100, 1, 0})
@@ -162,9 +176,9 @@ void hairOnWalkingHead(benchmark::State& state) {
   world.setColliders({std::make_shared<chs::SphereSurface>(Vec3::Zero(), kHead)});
   for (int i = 0; i < 30; ++i) world.step(1.0 / 120.0);  // the hair falls onto the still head
   const double frame = 1.0 / 60.0;
-  double t = 0.0, t_solve = 0.0, t_to = 0.0, t_grid = 0.0, t_from = 0.0, t_collide = 0.0;
-  int frames = 0, steps = 0;
-  double collision_passes = 0.0, zone_passes = 0.0, newton = 0.0;
+  double t = 0.0;
+  StageTimes times;
+  int frames = 0;
   for (auto _ : state) {
     for (double left = frame; left > 1e-12;) {
       const double dt = std::min({left, 1.0 / 120.0, hair->stableTimeStep()});
@@ -174,44 +188,15 @@ void hairOnWalkingHead(benchmark::State& state) {
       for (int s = 0; s < hair->numStrands(); ++s) hair->setRootFrame(s, next.pose);
       world.setColliders({std::make_shared<chs::SphereSurface>(now.pose.translation(), kHead)},
                          {now.velocity});
-      auto c = chs::bench::Clock::now();
-      hair->beginStep(dt);
-      t_solve += chs::bench::secondsSince(c);
-      c = chs::bench::Clock::now();
-      hair->transferToGrid();
-      t_to += chs::bench::secondsSince(c);
-      c = chs::bench::Clock::now();
-      hair->updateGrid(dt);
-      t_grid += chs::bench::secondsSince(c);
-      c = chs::bench::Clock::now();
-      hair->transferFromGrid(dt);
-      hair->endStep(dt);
-      t_from += chs::bench::secondsSince(c);
-      const chs::rod::StrandCollisionStats& cs = hair->lastStrandCollisions();
-      t_collide += cs.seconds;
-      collision_passes += cs.collision_passes;
-      zone_passes += cs.zone_passes;
-      newton += static_cast<double>(hair->lastTotalNewtonIterations()) / strands;
+      times.step(*hair, dt);
       t += dt;
       left -= dt;
-      ++steps;
     }
     ++frames;
   }
-  const double wall = t_solve + t_to + t_grid + t_from;
-  state.counters["ms_frame"] = 1e3 * wall / frames;
-  state.counters["steps_frame"] = static_cast<double>(steps) / frames;
-  state.counters["ms_rod_solve"] = 1e3 * t_solve / frames;
-  state.counters["ms_to_grid"] = 1e3 * t_to / frames;
-  state.counters["ms_grid"] = 1e3 * t_grid / frames;
-  state.counters["ms_from_grid"] = 1e3 * t_from / frames;
-  state.counters["ms_collisions"] = 1e3 * t_collide / frames;
-  state.counters["real_time_factor"] = frames * frame / wall;
-  state.counters["newton_per_strand_step"] = newton / steps;
-  state.counters["collision_passes"] = collision_passes / steps;  // per step, as hairFrame's
-  state.counters["zone_passes"] = zone_passes / steps;
-  state.counters["seg_frames_per_core_s"] =
-      static_cast<double>(strands) * kSegments * frames / (wall * threads);
+  times.report(state, frames, strands, threads);
+  state.counters["steps_frame"] = static_cast<double>(times.steps) / frames;
+  state.counters["real_time_factor"] = frames * frame / times.wall();
 }
 BENCHMARK(hairOnWalkingHead)
     ->Args({100, 2})
