@@ -4,6 +4,8 @@ JOBS ?= 2
 DEMO_OUT ?= demo_output
 # Debian's catkin needs the system python (a pyenv python lacks catkin_pkg).
 export PATH := /usr/bin:$(PATH)
+# Paths under the checkout reach ccache relative to it, so clones and worktrees share its cache.
+export CCACHE_BASEDIR := $(CURDIR)
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
   -DPython3_EXECUTABLE=/usr/bin/python3 -DCMAKE_CXX_COMPILER_LAUNCHER=ccache
 BIN = $(BUILD)/devel/lib/cloth_hair_sim

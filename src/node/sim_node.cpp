@@ -183,11 +183,11 @@ chs::World SimNode::worldOf(const std::map<std::string, Garment>& garments,
 }
 
 double SimNode::substepLimit() const {
-  double h = params_.dt;
-  // Each backend's bound carries its own margin (the hybrid shell's also shrinks with speed
-  // through its CFL condition).
-  for (const auto& [name, g] : garments_) h = std::min(h, g.dynamics->stableTimeStep());
-  for (const auto& [name, hair] : hairs_) h = std::min(h, hair.body->stableTimeStep());
+  // The world's bound holds its bodies' own (with their margins and CFL conditions) and how fast
+  // the bodies approach each other; a garment outside the world (the particle model) has its own.
+  double h = std::min(params_.dt, world_.stableTimeStep());
+  for (const auto& [name, g] : garments_)
+    if (!g.body) h = std::min(h, g.dynamics->stableTimeStep());
   return h;
 }
 

@@ -126,6 +126,7 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   mpm.param("contact_distance", p.world.contact_distance, p.world.contact_distance);
   p.world.grid_spacing = p.mpm.grid_spacing;
   p.world.kernel_degree = p.mpm.kernel_degree;
+  p.world.cfl = p.mpm.cfl;  // between garments as within each
   if (!(p.world.body_friction >= 0.0) || !std::isfinite(p.world.body_friction))
     throw chs::InputError("parameter ~mpm/body_friction must be >= 0");
   if (!std::isfinite(p.world.contact_distance))

@@ -395,6 +395,7 @@ void parseWorld(const YAML::Node& node, SimulationScene& scene) {
   sh.max_time_step = w.positive("max_time_step", sh.max_time_step);
   sh.safety = w.positive("safety", sh.safety);
   sh.cfl = w.positive("cfl", sh.cfl);
+  ws.cfl = sh.cfl;  // between bodies as within each
   sh.lagrangian_tolerance = w.positive("lagrangian_tolerance", sh.lagrangian_tolerance);
   sh.contact_between_layers_only =
       w.boolean("contact_between_layers_only", sh.contact_between_layers_only);

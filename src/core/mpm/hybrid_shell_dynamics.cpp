@@ -831,11 +831,21 @@ void HybridShellDynamics::updatePlasticity() {
   });
 }
 
-double HybridShellDynamics::cflTimeStep() const {
-  double vmax = 0.0;
-  for (const auto* set : {&control_, &solid_})
-    for (const auto& v : set->v) vmax = std::max(vmax, v.norm());
-  return vmax > 0.0 ? settings_.cfl * dx_ / vmax : std::numeric_limits<double>::max();
+double HybridShellDynamics::cflTimeStep(double longest) const {
+  return mpm::motionTimeStep({motion()}, grid_colliders_, (settings_.kernel_degree + 1) * dx_,
+                             settings_.cfl * dx_, longest);
+}
+
+mpm::MotionGroup HybridShellDynamics::motion() const {
+  // The control points carry the shell's contact particles (and the solid its own); the shell
+  // meets itself on its field (layers, the fibres' contact), so its own approach counts.
+  mpm::MotionGroup g;
+  g.self = true;
+  for (const auto* set : {&control_, &solid_}) {
+    g.x.insert(g.x.end(), set->x.begin(), set->x.end());
+    g.v.insert(g.v.end(), set->v.begin(), set->v.end());
+  }
+  return g;
 }
 
 double HybridShellDynamics::explicitTimeStep() const {
@@ -851,13 +861,12 @@ double HybridShellDynamics::explicitTimeStep() const {
   // The solid's fastest (dilatational) wave over a cell, as for a plain MPM continuum.
   const double dt_solid =
       solid_.size() > 0 ? dx_ / solid_wave_speed_ : std::numeric_limits<double>::infinity();
-  return std::min(settings_.safety * std::min({dt_membrane, dt_bending, dt_contact, dt_solid}),
-                  cflTimeStep());
+  return cflTimeStep(settings_.safety * std::min({dt_membrane, dt_bending, dt_contact, dt_solid}));
 }
 
 double HybridShellDynamics::stableTimeStep() const {
   if (settings_.integration != TimeIntegration::kSymplecticEuler)
-    return std::min(settings_.max_time_step, cflTimeStep());
+    return cflTimeStep(settings_.max_time_step);
   return explicitTimeStep();
 }
 

@@ -662,15 +662,22 @@ std::vector<mpm::MassCarriers> HairDynamics::fieldCarriers() const {
 }
 
 double HairDynamics::stableTimeStep() const {
-  double vmax = 0.0;
-  for (const Strand& s : strands_)
-    for (const Vec3& v : s.v) vmax = std::max(vmax, v.norm());
+  const double support = (settings_.kernel_degree + 1) * settings_.grid_spacing;
   const double cfl = settings_.cfl * settings_.grid_spacing;
-  double dt = settings_.max_time_step;
-  if (vmax > 0.0) dt = std::min(dt, cfl / vmax);
+  double dt = mpm::motionTimeStep({motion()}, colliders_, support, cfl, settings_.max_time_step);
   // The continuum's substeps stay within their cap (updateGrid).
   if (bulk_wave_speed_ > 0.0) dt = std::min(dt, kMaxBulkSubsteps * cfl / bulk_wave_speed_);
   return dt;
+}
+
+mpm::MotionGroup HairDynamics::motion() const {
+  mpm::MotionGroup g;
+  g.self = bulk_.has_value();
+  for (const Strand& s : strands_) {
+    g.x.insert(g.x.end(), s.rod.positions().begin(), s.rod.positions().end());
+    g.v.insert(g.v.end(), s.v.begin(), s.v.end());
+  }
+  return g;
 }
 
 Vec3 HairDynamics::linearMomentum() const {

@@ -38,6 +38,8 @@ World::World(const WorldSettings& settings) : settings_(settings) {
     throw InputError("world: body_friction must be >= 0");
   if (!std::isfinite(settings.contact_distance))
     throw InputError("world: contact_distance must be finite");
+  if (!(settings.cfl > 0.0 && settings.cfl <= 1.0))
+    throw InputError("world: cfl must lie in (0, 1]");
   if (settings.grid_spacing > 0.0) checkSpacing("world: ", settings.grid_spacing);
   spacing_ = settings.grid_spacing > 0.0 ? settings.grid_spacing : 0.0;
 }
@@ -99,7 +101,14 @@ void World::setColliders(const RigidSurfaces& colliders,
 double World::stableTimeStep() const {
   double h = std::numeric_limits<double>::max();
   for (const Entry& e : bodies_) h = std::min(h, e.body->stableTimeStep());
-  return h;
+  if (bodies_.size() < 2) return h;
+  std::vector<mpm::MotionGroup> groups;
+  for (const Entry& e : bodies_) {
+    groups.push_back(e.body->motion());
+    groups.back().self = false;  // each body's own bound holds its approach on itself
+  }
+  const double dx = gridSpacing();
+  return mpm::motionTimeStep(groups, {}, (settings_.kernel_degree + 1) * dx, settings_.cfl * dx, h);
 }
 
 // The bodies' own stages run side by side, a body to a task (each body's loops nest inside its

@@ -36,7 +36,9 @@ namespace chs {
 struct HybridShellSettings {
   double grid_spacing = 0.0;  // dx [m]; <= 0: the mean control-mesh edge length
   int kernel_degree = 2;      // B-spline degree of the grid, 2 or 3
-  double cfl = 0.3;           // no particle moves more than cfl dx in a step (Han section 5.6)
+  // No particle closes on an obstacle, or on another particle near it, by more than cfl dx in a
+  // step (Han section 5.6; mpm/approach_speed.h: a garment carried as a whole is not held back).
+  double cfl = 0.3;
   double rpic_damping = 0.0;  // nu of Han (5.52): 0 = APIC, 1 = RPIC
   double damping = 0.0;       // [1/s] viscous damping -c m v on the grid (settling drapes)
   double safety = 0.5;        // fraction of the elastic stability bound stableTimeStep() takes
@@ -158,10 +160,12 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   }
   // Symplectic Euler: min(elastic bound (membrane and bending waves over the control spacing,
   // fibre contact, the solid's dilatational wave over dx) times settings.safety, CFL cfl dx /
-  // max speed of control and solid particles). Backward Euler: min(settings.max_time_step, CFL);
+  // the speed at which control and solid particles approach the obstacles and each other).
+  // Backward Euler: min(settings.max_time_step, CFL);
   // a step whose solve falls short of the tolerance is redone with explicit substeps
   // (implicitFallbacks()).
   double stableTimeStep() const override;
+  mpm::MotionGroup motion() const override;
 
   int numVertices() const override { return static_cast<int>(control_.x.size()); }
   const std::vector<Eigen::Vector3d>& positions() const override { return control_.x; }
@@ -251,8 +255,8 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   // The Lagrangian implicit step's elastic stage: the control points' end-of-step positions under
   // elasticity, gravity and damping, taken as their velocities for the grid.
   void solveElasticity(double dt);
-  double explicitTimeStep() const;  // elastic bound times safety, and CFL
-  double cflTimeStep() const;
+  double explicitTimeStep() const;           // elastic bound times safety, and CFL
+  double cflTimeStep(double longest) const;  // the CFL bound up to `longest`
   // The stages of step(), Han section 5.5.
   void computeGridForces();
   void updateGridMomentum(double dt);

@@ -81,8 +81,10 @@ struct HairSettings {
   mpm::ColliderBoundary boundary = mpm::ColliderBoundary::kSeparating;
   double friction = 0.3;
   ObstacleContactSettings obstacle_contact;
-  // stableTimeStep(): min(max_time_step, cfl dx / fastest vertex). The implicit elasticity sets
-  // no bound of its own.
+  // stableTimeStep(): min(max_time_step, cfl dx / w), w the speed at which vertices approach the
+  // obstacles, and each other when the continuum is on (mpm/approach_speed.h): hair that moves
+  // with its head is not held to the head's speed. The implicit elasticity sets no bound of its
+  // own, and the strand-strand impulses are continuous in time.
   double cfl = 0.5;
   double max_time_step = 1.0 / 120.0;
   // Each strand's implicit solve per step. Stopped once a Newton step moves no vertex by more
@@ -208,6 +210,7 @@ class HairDynamics : public Body {
   void fieldNormals(std::vector<Eigen::Vector3d>& normals) const override { normals.clear(); }
   int kernelDegree() const override { return settings_.kernel_degree; }
   double stableTimeStep() const override;
+  mpm::MotionGroup motion() const override;
   Eigen::Vector3d linearMomentum() const override;
   double kineticEnergy() const override;  // vertices' translation and edges' spin
   bool finite() const override;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "cloth_hair_sim/core/dynamics/cloth_dynamics.h"
+#include "cloth_hair_sim/core/mpm/approach_speed.h"
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 #include "cloth_hair_sim/core/mpm/particle_projection.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
@@ -47,8 +48,11 @@ class Body {
   virtual void fieldNormals(std::vector<Eigen::Vector3d>& normals) const = 0;
   virtual int kernelDegree() const = 0;
 
-  // The largest step the body tolerates now (its explicit bound or CFL).
+  // The largest step the body tolerates now (its explicit bound, or the CFL bound from how fast
+  // its particles approach the obstacles and each other: mpm/approach_speed.h).
   virtual double stableTimeStep() const = 0;
+  // The body's particles now, for the CFL bound between bodies (World::stableTimeStep).
+  virtual mpm::MotionGroup motion() const = 0;
   virtual Eigen::Vector3d linearMomentum() const = 0;
   virtual double kineticEnergy() const = 0;
   virtual bool finite() const = 0;  // positions and velocities

@@ -21,6 +21,9 @@ struct WorldSettings {
   // two bodies stop approaching (<= 0: a quarter of dx).
   double body_friction = 0.3;
   double contact_distance = 0.0;
+  // No two bodies close on each other by more than cfl dx in a step (each body bounds its own
+  // approach to the obstacles and to itself: mpm/approach_speed.h).
+  double cfl = 0.3;
 };
 
 // What one step did.
@@ -79,7 +82,8 @@ class World {
   // update. Throws InputError for a non-positive or non-finite dt.
   WorldStepReport step(double dt);
   double time() const { return time_; }
-  // The largest step every body tolerates now.
+  // The largest step every body tolerates now, and at which no two bodies close on each other by
+  // more than settings().cfl dx.
   double stableTimeStep() const;
   // Per collider, over the last step (zero before the first).
   std::vector<ColliderLoad> colliderLoads() const;

@@ -1,0 +1,122 @@
+#include "cloth_hair_sim/core/mpm/approach_speed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+namespace chs::mpm {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+// The velocities of one group's particles in one cell.
+struct VelocityBox {
+  int group = 0;
+  Vec3 lo, hi;
+};
+
+constexpr int kCellRange = 1 << 20;  // cells per axis each side of the origin
+
+std::int64_t cellKey(const Eigen::Vector3i& c) {
+  constexpr std::int64_t kMask = (std::int64_t{1} << 21) - 1;
+  return ((c.x() + kCellRange) & kMask) | (((c.y() + kCellRange) & kMask) << 21) |
+         (((c.z() + kCellRange) & kMask) << 42);
+}
+
+// Far-flung (or non-finite) positions share the outermost cells instead of overflowing.
+Eigen::Vector3i cellOf(const Vec3& x, double cell) {
+  const Vec3 c = (x / cell).array().floor().max(1.0 - kCellRange).min(kCellRange - 2.0).matrix();
+  return c.allFinite() ? Eigen::Vector3i(c.cast<int>()) : Eigen::Vector3i::Zero();
+}
+
+double colliderApproach(const MotionGroup& g, const std::vector<GridCollider>& colliders,
+                        double support, double longest_step) {
+  if (colliders.empty()) return 0.0;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, static_cast<int>(g.x.size()), 256), 0.0,
+      [&](const tbb::blocked_range<int>& r, double w) {
+        for (int p = r.begin(); p != r.end(); ++p)
+          for (const GridCollider& c : colliders) {
+            const Vec3 vc = c.velocity.at(g.x[p]);
+            const double reach = support + longest_step * (g.v[p].norm() + vc.norm());
+            if (c.surface->project(g.x[p]).gap < reach) w = std::max(w, (g.v[p] - vc).norm());
+          }
+        return w;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
+}  // namespace
+
+double approachSpeed(const std::vector<MotionGroup>& groups,
+                     const std::vector<GridCollider>& colliders, double support,
+                     double longest_step) {
+  double w = 0.0, fastest = 0.0;
+  bool pairs = groups.size() > 1;
+  for (const MotionGroup& g : groups) {
+    w = std::max(w, colliderApproach(g, colliders, support, longest_step));
+    for (const Vec3& v : g.v) fastest = std::max(fastest, v.norm());
+    pairs = pairs || g.self;
+  }
+  if (!pairs) return w;
+  // Two particles that may meet within the longest step are closer than `cell` now, so they lie
+  // in the same or neighbouring cells.
+  const double cell = support + 2.0 * fastest * longest_step;
+  std::unordered_map<std::int64_t, int> index;
+  std::vector<Eigen::Vector3i> cells;
+  std::vector<std::vector<VelocityBox>> boxes;
+  for (int gi = 0; gi < static_cast<int>(groups.size()); ++gi) {
+    const MotionGroup& g = groups[gi];
+    for (std::size_t p = 0; p < g.x.size(); ++p) {
+      const Eigen::Vector3i c = cellOf(g.x[p], cell);
+      const auto [it, fresh] = index.emplace(cellKey(c), static_cast<int>(cells.size()));
+      if (fresh) {
+        cells.push_back(c);
+        boxes.emplace_back();
+      }
+      std::vector<VelocityBox>& here = boxes[it->second];
+      auto b = std::find_if(here.begin(), here.end(),
+                            [gi](const VelocityBox& vb) { return vb.group == gi; });
+      if (b == here.end())
+        here.push_back({gi, g.v[p], g.v[p]});
+      else {
+        b->lo = b->lo.cwiseMin(g.v[p]);
+        b->hi = b->hi.cwiseMax(g.v[p]);
+      }
+    }
+  }
+  for (std::size_t ci = 0; ci < cells.size(); ++ci)
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = index.find(cellKey(cells[ci] + Eigen::Vector3i(dx, dy, dz)));
+          if (it == index.end()) continue;
+          for (const VelocityBox& a : boxes[ci])
+            for (const VelocityBox& b : boxes[it->second])
+              if (a.group != b.group || groups[a.group].self)
+                w = std::max(w, (a.hi.cwiseMax(b.hi) - a.lo.cwiseMin(b.lo)).norm());
+        }
+  return w;
+}
+
+double motionTimeStep(const std::vector<MotionGroup>& groups,
+                      const std::vector<GridCollider>& colliders, double support, double travel,
+                      double longest_step) {
+  const auto step = [&](double reach_step) {
+    const double w = approachSpeed(groups, colliders, support, reach_step);
+    return w > 0.0 ? std::min(longest_step, travel / w) : longest_step;
+  };
+  // A step h is safe when everything within reach over h closes by at most `travel` in it. The
+  // first bound is safe (what may be met within it is a subset of what may be met within the
+  // longest step); a longer one is taken when it passes that test itself.
+  const double safe = step(longest_step);
+  if (safe >= longest_step) return safe;
+  const double longer = step(safe);
+  return longer > safe && step(longer) >= longer ? longer : safe;
+}
+
+}  // namespace chs::mpm
