@@ -192,7 +192,7 @@ StrandCollisions::StrandCollisions(const StrandCollisionSettings& s) : settings_
 }
 
 // Broad phase: each segment's box over its step (x and x + dt v at both ends), grown by
-// grow / 2. The pairs come from a cell search over the boxes grown further by `slack` (a Verlet
+// grow / 2. The pairs come from a cell search over the boxes grown further by a slack (a Verlet
 // list, as molecular dynamics keeps its neighbour lists): while every segment's box stays inside
 // its slack-grown box of the last search, the pairs whose boxes meet are among that search's,
 // and filtering its list gives exactly what a new search would. The proximity and collision
@@ -223,15 +223,23 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
 // All pairs of segments (not sharing a vertex) whose boxes, grown by the slack, meet: each box
 // in every cell of a uniform grid it touches, a pair kept by the cell holding the low corner of
 // the two boxes' overlap.
+//
+// Each box's slack is the larger of `slack` and a tenth of the box's size: a box spans the
+// segment's sweep over the step, so a moving segment gets room for its next steps' drift too.
+// With the thickness alone (80 um), 1000 swinging hairs on the walking head searched anew at
+// 1696 of 1757 calls; with a tenth 1116, and the stage took 0.6 of its time (a quarter: 681
+// searches, no faster, since the list to filter grows; a half: 304, slower).
 void StrandCollisions::search(const std::vector<Eigen::AlignedBox3d>& tight, double slack) {
+  constexpr double kDriftFraction = 0.1;
   const int n = static_cast<int>(segments_.size());
   std::vector<Eigen::AlignedBox3d>& boxes = searched_boxes_;
   boxes = tight;
   double mean = 0.0, largest = 0.0;
   Eigen::AlignedBox3d all;
   for (Eigen::AlignedBox3d& b : boxes) {
-    b.min().array() -= slack;
-    b.max().array() += slack;
+    const double grown = std::max(slack, kDriftFraction * b.sizes().maxCoeff());
+    b.min().array() -= grown;
+    b.max().array() += grown;
     const double e = b.sizes().maxCoeff();
     mean += e / n;
     largest = std::max(largest, e);

@@ -123,10 +123,11 @@ class StrandCollisions {
     double min_change = 0.0;  // change of it at least (a collision's push)
   };
   // Fills pairs_ with the segment pairs whose boxes over the step (grown by grow / 2) meet,
-  // searching anew (with the boxes grown by slack more) only when a box has left its last one.
+  // searching anew (with the boxes grown by at least slack more) only when a box has left its
+  // last one.
   void candidates(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
                   double grow, double dt, double slack);
-  // A new cell search over the boxes grown by slack (searched_*).
+  // A new cell search over the boxes grown by at least slack (searched_*).
   void search(const std::vector<Eigen::AlignedBox3d>& boxes, double slack);
   // Applies the impulses, with Coulomb friction: Jacobi-wise (each from the same velocities,
   // divided by its vertices' largest count) or Gauss-Seidel (in turn, each from the velocities
