@@ -69,6 +69,7 @@ std::shared_ptr<chs::rod::HairDynamics> headOfHair(int strands, int continuum) {
 struct StageTimes {
   double solve = 0.0, to_grid = 0.0, grid = 0.0, from_grid = 0.0, collisions = 0.0;
   double candidates = 0.0, collision_passes = 0.0, zone_passes = 0.0, newton = 0.0;
+  double full_searches = 0.0, partial_searches = 0.0;
   int steps = 0, max_newton = 0;
 
   void step(chs::rod::HairDynamics& hair, double dt) {
@@ -90,14 +91,16 @@ struct StageTimes {
     candidates += c.candidate_pairs;
     collision_passes += c.collision_passes;
     zone_passes += c.zone_passes;
+    full_searches += c.full_searches;
+    partial_searches += c.partial_searches;
     max_newton = std::max(max_newton, hair.lastNewtonIterations());
     newton += static_cast<double>(hair.lastTotalNewtonIterations()) / hair.numStrands();
     ++steps;
   }
   double wall() const { return solve + to_grid + grid + from_grid; }
   // Per frame: wall time and its stages, segment-frames per core-second; per step: Newton
-  // iterations per strand, the broad phase's pairs, the collision passes with impulses, the zone
-  // passes.
+  // iterations per strand, the broad phase's pairs and its full and partial searches, the
+  // collision passes with impulses, the zone passes.
   void report(benchmark::State& state, int frames, int strands, int threads) const {
     state.counters["ms_frame"] = 1e3 * wall() / frames;
     state.counters["ms_rod_solve"] = 1e3 * solve / frames;
@@ -112,6 +115,8 @@ struct StageTimes {
     state.counters["candidates"] = candidates / steps;
     state.counters["collision_passes"] = collision_passes / steps;
     state.counters["zone_passes"] = zone_passes / steps;
+    state.counters["full_searches"] = full_searches / steps;
+    state.counters["partial_searches"] = partial_searches / steps;
   }
 };
 

@@ -21,6 +21,29 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
+// The broad phase's cells are numbered from the corner of all boxes with 21 bits per axis, so
+// that a cell is one 64-bit key (StrandCollisions::search).
+constexpr double kCellsPerAxis = double(1 << 21) - 2.0;
+
+std::uint64_t cellKey(int ix, int iy, int iz) {
+  return std::uint64_t(ix) << 42 | std::uint64_t(iy) << 21 | std::uint64_t(iz);
+}
+
+// A segment's box with the Verlet list's slack: the larger of `slack` and a tenth of the box's
+// size. A box spans the segment's sweep over the step, so a moving segment gets room for its
+// next steps' drift too. With the thickness alone (80 um), 1000 swinging hairs on the walking
+// head searched anew at 1696 of 1757 calls; with a tenth 1116, and the stage took 0.6 of its
+// time (a quarter: 681 searches, no faster, since the list to filter grows; a half: 304,
+// slower).
+Eigen::AlignedBox3d grownBox(const Eigen::AlignedBox3d& tight, double slack) {
+  constexpr double kDriftFraction = 0.1;
+  const double grown = std::max(slack, kDriftFraction * tight.sizes().maxCoeff());
+  Eigen::AlignedBox3d b = tight;
+  b.min().array() -= grown;
+  b.max().array() += grown;
+  return b;
+}
+
 struct Closest {
   double s = 0.0, u = 0.0;
   Vec3 d = Vec3::Zero();  // b(u) - a(s)
@@ -199,7 +222,8 @@ StrandCollisions::StrandCollisions(const StrandCollisionSettings& s) : settings_
 // passes of a step, which change the velocities by a fraction of the thickness per step, then
 // share one search; hair at rest keeps it over steps.
 void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                                  double grow, double dt, double slack) {
+                                  double grow, double dt, double slack,
+                                  StrandCollisionStats& stats) {
   const int n = static_cast<int>(segments_.size());
   std::vector<Eigen::AlignedBox3d> boxes(n);
   tbb::parallel_for(0, n, [&](int k) {
@@ -212,9 +236,22 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
     b.min().array() -= 0.5 * grow;
     b.max().array() += 0.5 * grow;
   });
-  bool inside = searched_segments_ == segments_;
-  for (int k = 0; k < n && inside; ++k) inside = searched_boxes_[k].contains(boxes[k]);
-  if (!inside) search(boxes, slack);
+  // A few boxes that left theirs (the segments a pass's impulses turned, a strand swung past
+  // its slack) are searched again alone; when more than kSearchAgainLimit have since the last
+  // full search, all are. 1000 swinging hairs on the walking head: of 1116 calls that found a
+  // box outside, 842 found fewer than 100 of the 24 000.
+  constexpr int kSearchAgainLimit = 512;
+  std::vector<int> left;
+  const bool same = searched_segments_ == segments_;
+  for (int k = 0; k < n && same; ++k)
+    if (!searched_boxes_[k].contains(boxes[k])) left.push_back(k);
+  if (!same || static_cast<int>(searched_again_.size() + left.size()) > kSearchAgainLimit) {
+    search(boxes, slack);
+    ++stats.full_searches;
+  } else if (!left.empty()) {
+    searchAgain(boxes, left, slack);
+    ++stats.partial_searches;
+  }
   pairs_.clear();
   for (const Pair& p : searched_pairs_)
     if (boxes[segment_index_[p.a]].intersects(boxes[segment_index_[p.b]])) pairs_.push_back(p);
@@ -223,23 +260,14 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
 // All pairs of segments (not sharing a vertex) whose boxes, grown by the slack, meet: each box
 // in every cell of a uniform grid it touches, a pair kept by the cell holding the low corner of
 // the two boxes' overlap.
-//
-// Each box's slack is the larger of `slack` and a tenth of the box's size: a box spans the
-// segment's sweep over the step, so a moving segment gets room for its next steps' drift too.
-// With the thickness alone (80 um), 1000 swinging hairs on the walking head searched anew at
-// 1696 of 1757 calls; with a tenth 1116, and the stage took 0.6 of its time (a quarter: 681
-// searches, no faster, since the list to filter grows; a half: 304, slower).
 void StrandCollisions::search(const std::vector<Eigen::AlignedBox3d>& tight, double slack) {
-  constexpr double kDriftFraction = 0.1;
   const int n = static_cast<int>(segments_.size());
   std::vector<Eigen::AlignedBox3d>& boxes = searched_boxes_;
   boxes = tight;
   double mean = 0.0, largest = 0.0;
   Eigen::AlignedBox3d all;
   for (Eigen::AlignedBox3d& b : boxes) {
-    const double grown = std::max(slack, kDriftFraction * b.sizes().maxCoeff());
-    b.min().array() -= grown;
-    b.max().array() += grown;
+    b = grownBox(b, slack);
     const double e = b.sizes().maxCoeff();
     mean += e / n;
     largest = std::max(largest, e);
@@ -255,32 +283,23 @@ void StrandCollisions::search(const std::vector<Eigen::AlignedBox3d>& tight, dou
   // from the corner of all boxes with 21 bits per axis (coarser where the boxes span more than
   // 2^21 cells), so that a cell is one 64-bit key: the sort below compares integers, not tuples
   // (a third of the broad phase's time).
-  constexpr double kCellsPerAxis = double(1 << 21) - 2.0;
-  const double h =
+  cell_size_ =
       std::max({2.0 * mean, largest / 16.0, all.sizes().maxCoeff() / kCellsPerAxis, 1e-300});
-  const Vec3 origin = all.min();
-  auto cell = [&](const Vec3& p) {
-    const Eigen::Array3d c = ((p - origin) / h).array().floor().max(0.0).min(kCellsPerAxis);
-    return Eigen::Array3i(c.cast<int>());
-  };
-  auto key = [](int ix, int iy, int iz) {
-    return std::uint64_t(ix) << 42 | std::uint64_t(iy) << 21 | std::uint64_t(iz);
-  };
-  struct Entry {
-    std::uint64_t cell;
-    int k;
-  };
-  std::vector<Entry> entries;
+  grid_corner_ = all.min();
+  std::vector<CellEntry>& entries = grid_;
+  entries.clear();
   entries.reserve(2 * static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
-    const Eigen::Array3i lo = cell(boxes[k].min()), hi = cell(boxes[k].max());
+    const Eigen::Array3i lo = cellOf(boxes[k].min()), hi = cellOf(boxes[k].max());
     for (int ix = lo.x(); ix <= hi.x(); ++ix)
       for (int iy = lo.y(); iy <= hi.y(); ++iy)
-        for (int iz = lo.z(); iz <= hi.z(); ++iz) entries.push_back({key(ix, iy, iz), k});
+        for (int iz = lo.z(); iz <= hi.z(); ++iz) entries.push_back({cellKey(ix, iy, iz), k});
   }
-  tbb::parallel_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+  tbb::parallel_sort(entries.begin(), entries.end(), [](const CellEntry& a, const CellEntry& b) {
     return a.cell < b.cell || (a.cell == b.cell && a.k < b.k);
   });
+  searched_again_.clear();
+  is_searched_again_.assign(n, 0);
   std::vector<std::size_t> runs;  // starts of runs of one cell
   for (std::size_t e = 0; e < entries.size(); ++e)
     if (e == 0 || entries[e].cell != entries[e - 1].cell) runs.push_back(e);
@@ -298,8 +317,8 @@ void StrandCollisions::search(const std::vector<Eigen::AlignedBox3d>& tight, dou
                             if (std::abs(a - b) <= 1) continue;  // share a vertex
                             if (!boxes[kp].intersects(boxes[kq])) continue;
                             const Eigen::Array3i corner =
-                                cell(boxes[kp].min().cwiseMax(boxes[kq].min()));
-                            if (key(corner.x(), corner.y(), corner.z()) != here) continue;
+                                cellOf(boxes[kp].min().cwiseMax(boxes[kq].min()));
+                            if (cellKey(corner.x(), corner.y(), corner.z()) != here) continue;
                             out.push_back({std::min(a, b), std::max(a, b)});
                           }
                       }
@@ -309,6 +328,78 @@ void StrandCollisions::search(const std::vector<Eigen::AlignedBox3d>& tight, dou
     searched_pairs_.insert(searched_pairs_.end(), f.begin(), f.end());
   std::sort(searched_pairs_.begin(), searched_pairs_.end(),
             [](const Pair& p, const Pair& q) { return p.a < q.a || (p.a == q.a && p.b < q.b); });
+}
+
+Eigen::Array3i StrandCollisions::cellOf(const Vec3& p) const {
+  const Eigen::Array3d c =
+      ((p - grid_corner_) / cell_size_).array().floor().max(0.0).min(kCellsPerAxis);
+  return c.cast<int>();
+}
+
+// Each box that left is grown anew and tested against the grid's entries in the cells it
+// touches (a pair kept, as in search, by the cell of the overlap's low corner; the clamp to the
+// grid's range maps space onto cells monotonically, so a box outside it still meets its pairs),
+// and directly against the boxes searched again before and now (few: their grid entries are
+// stale). The pairs of the boxes that stayed are kept, so the list holds every pair whose
+// grown boxes meet, as after a full search.
+void StrandCollisions::searchAgain(const std::vector<Eigen::AlignedBox3d>& tight,
+                                   const std::vector<int>& left, double slack) {
+  std::vector<Eigen::AlignedBox3d>& boxes = searched_boxes_;
+  std::vector<char> is_left(segments_.size(), 0);
+  for (int k : left) {
+    boxes[k] = grownBox(tight[k], slack);
+    is_left[k] = 1;
+  }
+  searched_pairs_.erase(std::remove_if(searched_pairs_.begin(), searched_pairs_.end(),
+                                       [&](const Pair& p) {
+                                         return is_left[segment_index_[p.a]] ||
+                                                is_left[segment_index_[p.b]];
+                                       }),
+                        searched_pairs_.end());
+  const auto apart = [&](int kp, int kq) {
+    return std::abs(segments_[kp] - segments_[kq]) <= 1 || !boxes[kp].intersects(boxes[kq]);
+  };
+  const auto pair = [&](int kp, int kq) {
+    return Pair{std::min(segments_[kp], segments_[kq]), std::max(segments_[kp], segments_[kq])};
+  };
+  tbb::enumerable_thread_specific<std::vector<Pair>> found;
+  tbb::parallel_for(0, static_cast<int>(left.size()), [&](int i) {
+    std::vector<Pair>& out = found.local();
+    const int kp = left[i];
+    const Eigen::Array3i lo = cellOf(boxes[kp].min()), hi = cellOf(boxes[kp].max());
+    for (int ix = lo.x(); ix <= hi.x(); ++ix)
+      for (int iy = lo.y(); iy <= hi.y(); ++iy)
+        for (int iz = lo.z(); iz <= hi.z(); ++iz) {
+          const std::uint64_t here = cellKey(ix, iy, iz);
+          auto e = std::lower_bound(grid_.begin(), grid_.end(), here,
+                                    [](const CellEntry& a, std::uint64_t c) { return a.cell < c; });
+          for (; e != grid_.end() && e->cell == here; ++e) {
+            const int kq = e->k;
+            if (is_left[kq] || is_searched_again_[kq] || apart(kp, kq)) continue;
+            const Eigen::Array3i corner = cellOf(boxes[kp].min().cwiseMax(boxes[kq].min()));
+            if (cellKey(corner.x(), corner.y(), corner.z()) == here) out.push_back(pair(kp, kq));
+          }
+        }
+    for (int kq : searched_again_)
+      if (!is_left[kq] && !apart(kp, kq)) out.push_back(pair(kp, kq));
+    for (std::size_t j = i + 1; j < left.size(); ++j)
+      if (!apart(kp, left[j])) out.push_back(pair(kp, left[j]));
+  });
+  std::vector<Pair> added;
+  for (const std::vector<Pair>& f : found) added.insert(added.end(), f.begin(), f.end());
+  const auto before = [](const Pair& p, const Pair& q) {
+    return p.a < q.a || (p.a == q.a && p.b < q.b);
+  };
+  std::sort(added.begin(), added.end(), before);
+  const std::size_t kept = searched_pairs_.size();
+  searched_pairs_.insert(searched_pairs_.end(), added.begin(), added.end());
+  std::inplace_merge(searched_pairs_.begin(), searched_pairs_.begin() + kept, searched_pairs_.end(),
+                     before);
+  for (int k : left)
+    if (!is_searched_again_[k]) {
+      is_searched_again_[k] = 1;
+      searched_again_.push_back(k);
+    }
 }
 
 void StrandCollisions::applyImpulses(const std::vector<Impulse>& impulses, std::vector<Vec3>& v,
@@ -433,7 +524,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
   count_.assign(nv, 0);
 
   // Proximity (Bridson 7.1): pairs closer than the thickness at x^n.
-  candidates(x, v, thickness, dt, thickness);
+  candidates(x, v, thickness, dt, thickness, stats);
   stats.candidate_pairs = static_cast<int>(pairs_.size());
   const double repulsion = settings_.repulsion;
   for (int pass = 0; pass < settings_.max_iterations; ++pass) {
@@ -484,7 +575,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
       for (int i : im.vertex) dirty_[i] = 1;
   };
   for (int pass = 0; pass < settings_.max_iterations; ++pass) {
-    candidates(x, v, margin, dt, thickness);
+    candidates(x, v, margin, dt, thickness, stats);
     std::vector<Impulse> impulses = collisionImpulses(x, v, inverse_mass, thickness, dt);
     if (impulses.empty()) return stats;
     ++stats.collision_passes;
@@ -501,7 +592,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
     return i;
   };
   for (;;) {
-    candidates(x, v, margin, dt, thickness);
+    candidates(x, v, margin, dt, thickness, stats);
     // A pair inside one zone moves affinely and does not cross (it may stay within the margin).
     // One left inside a zone with clamps moving apart is not resolved.
     bool outside = false, stuck = false;

@@ -1,5 +1,6 @@
 #pragma once
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -70,6 +71,8 @@ struct StrandCollisionStats {
   int collision_impulses = 0;  // over those passes
   int zone_passes = 0;         // impact-zone passes
   int zone_vertices = 0;       // vertices in impact zones at the end
+  int full_searches = 0;       // broad-phase cell searches over all segments
+  int partial_searches = 0;    // searches of the few segments that left their Verlet boxes
   bool resolved = true;        // no pair left colliding
   double seconds = 0.0;        // wall time of the stage
 };
@@ -123,12 +126,17 @@ class StrandCollisions {
     double min_change = 0.0;  // change of it at least (a collision's push)
   };
   // Fills pairs_ with the segment pairs whose boxes over the step (grown by grow / 2) meet,
-  // searching anew (with the boxes grown by at least slack more) only when a box has left its
-  // last one.
+  // searching again (with the boxes grown by at least slack more) only for the boxes that have
+  // left their last ones, or anew when many have.
   void candidates(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
-                  double grow, double dt, double slack);
-  // A new cell search over the boxes grown by at least slack (searched_*).
+                  double grow, double dt, double slack, StrandCollisionStats& stats);
+  // A new cell search over all boxes grown by at least slack (searched_*, the grid).
   void search(const std::vector<Eigen::AlignedBox3d>& boxes, double slack);
+  // The boxes `left` (indices into segments_) searched again, grown by at least slack, against
+  // the last full search's grid and the boxes searched again since.
+  void searchAgain(const std::vector<Eigen::AlignedBox3d>& boxes, const std::vector<int>& left,
+                   double slack);
+  Eigen::Array3i cellOf(const Eigen::Vector3d& p) const;
   // Applies the impulses, with Coulomb friction: Jacobi-wise (each from the same velocities,
   // divided by its vertices' largest count) or Gauss-Seidel (in turn, each from the velocities
   // its predecessors left).
@@ -148,6 +156,18 @@ class StrandCollisions {
   std::vector<Eigen::AlignedBox3d> searched_boxes_;
   std::vector<Pair> searched_pairs_;
   std::vector<int> segment_index_;
+  // The last full search's uniform grid: cell size, corner, and its entries by cell key.
+  struct CellEntry {
+    std::uint64_t cell = 0;
+    int k = 0;  // index into segments_
+  };
+  double cell_size_ = 1.0;
+  Eigen::Vector3d grid_corner_ = Eigen::Vector3d::Zero();
+  std::vector<CellEntry> grid_;
+  // Segments searched again since the full search (their entries in grid_ stale), and a flag
+  // per segment.
+  std::vector<int> searched_again_;
+  std::vector<char> is_searched_again_;
   std::vector<int> count_;      // impulses per vertex in a pass
   std::vector<int> strand_of_;  // each vertex's strand
   std::vector<char> dirty_;     // vertices whose velocity the last pass changed
