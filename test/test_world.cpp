@@ -313,6 +313,29 @@ TEST(World, RefusesBodiesItCannotHold) {
   EXPECT_THROW(w.step(std::nan("")), InputError);
   EXPECT_TRUE(w.remove("sheet"));
   EXPECT_FALSE(w.remove("sheet"));
+  // A particle budget: the first sheet fits, a second would go over it and is refused whole,
+  // and the world it leaves steps on.
+  WorldSettings small;
+  small.grid_spacing = kH;
+  const long per_sheet =
+      static_cast<long>(HybridShellDynamics(p, shellSettings(0.0)).motion().x.size());
+  small.max_particles = static_cast<int>(per_sheet + per_sheet / 2);
+  World budget(small);
+  budget.add("first", std::make_unique<HybridShellDynamics>(p, shellSettings(0.0)));
+  try {
+    budget.add("second", std::make_unique<HybridShellDynamics>(p, shellSettings(0.0)));
+    ADD_FAILURE() << "a world over its particle budget accepted a body";
+  } catch (const InputError& e) {
+    std::printf("  refused: %s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("over max_particles"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(budget.numBodies(), 1);
+  EXPECT_EQ(budget.numParticles(), per_sheet);
+  const WorldStepReport report = budget.step(1e-4);
+  EXPECT_TRUE(report.diverged.empty());
+  EXPECT_TRUE(budget.body(0).finite());
+  small.max_particles = 0;
+  EXPECT_THROW(World{small}, InputError);
 }
 
 }  // namespace

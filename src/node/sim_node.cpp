@@ -759,6 +759,22 @@ bool SimNode::loadGarment(cloth_hair_sim::LoadGarment::Request& req,
         res.message = who + "a garment or hair of that name was loaded meanwhile";
         return true;
       }
+      // The world's particle budget, as World::add checks it, with the queue's loads counted.
+      if (g.body) {
+        long queued = world_particles_;
+        for (const PendingEdit& edit : pending_edits_)
+          if (edit.garment && edit.garment->body)
+            queued += static_cast<long>(edit.garment->body->motion().x.size());
+        const long particles = static_cast<long>(g.body->motion().x.size());
+        if (particles > load_params_.world.max_particles - queued) {
+          res.message = who + "its " + std::to_string(particles) +
+                        " particles would bring the world to " +
+                        std::to_string(queued + particles) + ", over ~mpm/max_particles " +
+                        std::to_string(load_params_.world.max_particles);
+          ROS_WARN("%s", res.message.c_str());
+          return true;
+        }
+      }
       catalogue_.names.push_back(req.name);
       catalogue_.vertices.push_back(g.dynamics->numVertices());
       catalogue_.materials.push_back(g.material_name);
@@ -873,6 +889,7 @@ void SimNode::refreshCatalogue() {
   }
   std::lock_guard<std::mutex> pending(pending_mutex_);
   load_params_ = garmentParams();
+  world_particles_ = world_.numParticles();
   for (const PendingEdit& edit : pending_edits_) {
     if (!edit.garment) {
       for (std::size_t i = 0; i < list.names.size(); ++i)

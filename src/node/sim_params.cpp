@@ -124,6 +124,7 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   const ros::NodeHandle mpm(nh, "mpm");
   mpm.param("body_friction", p.world.body_friction, p.world.body_friction);
   mpm.param("contact_distance", p.world.contact_distance, p.world.contact_distance);
+  mpm.param("max_particles", p.world.max_particles, p.world.max_particles);
   p.world.grid_spacing = p.mpm.grid_spacing;
   p.world.kernel_degree = p.mpm.kernel_degree;
   p.world.cfl = p.mpm.cfl;  // between garments as within each
@@ -131,6 +132,8 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
     throw chs::InputError("parameter ~mpm/body_friction must be >= 0");
   if (!std::isfinite(p.world.contact_distance))
     throw chs::InputError("parameter ~mpm/contact_distance must be finite");
+  if (p.world.max_particles < 1)
+    throw chs::InputError("parameter ~mpm/max_particles must be at least 1");
   return p;
 }
 

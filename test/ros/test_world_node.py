@@ -174,6 +174,27 @@ class WorldNode(unittest.TestCase):
             time.sleep(0.05)
         self.assertEqual(self.status.get().garments, 2)
 
+    def test_u_a_load_over_the_particle_budget_is_refused(self):
+        # ~mpm/max_particles is 5000 here: an 80 x 80 sheet (6561 control points) would bring
+        # the world over it, whether it joins at once or would be queued; refused by name, and
+        # the world steps on with what it had.
+        before = sorted(self.list().names)
+        req = sheet('huge', 0.8, 80, 1.0)
+        req.pose.position.x = 1.0
+        res = self.load(req)
+        print('[figure] node: load over the particle budget: %s' % res.message)
+        self.assertFalse(res.success, res.message)
+        self.assertIn('max_particles', res.message)
+        self.assertIn('6561 particles', res.message)
+        self.assertEqual(sorted(self.list().names), before)
+        t0 = self.status.get().sim_time
+        deadline = time.time() + 30.0
+        while time.time() < deadline and self.status.get().sim_time < t0 + 0.05:
+            time.sleep(0.05)
+        status = self.status.get()
+        self.assertGreater(status.sim_time, t0)
+        self.assertEqual(status.garments, len(before))
+
 
 if __name__ == '__main__':
     rospy.init_node('test_world_node')

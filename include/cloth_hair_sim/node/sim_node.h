@@ -198,6 +198,9 @@ class SimNode {
   std::mutex catalogue_mutex_;
   cloth_hair_sim::ListGarments::Response catalogue_;
   SimParams load_params_;
+  // The world's particles as of the last refresh (under pending_mutex_): a load queued while
+  // the world steps is checked against ~mpm/max_particles with it and the queue's.
+  long world_particles_ = 0;
   void refreshCatalogue();
   // Whether the catalogue lists a garment or hair of that name (without mutex_).
   bool nameTaken(const std::string& name);

@@ -396,6 +396,7 @@ void parseWorld(const YAML::Node& node, SimulationScene& scene) {
   sh.safety = w.positive("safety", sh.safety);
   sh.cfl = w.positive("cfl", sh.cfl);
   ws.cfl = sh.cfl;  // between bodies as within each
+  ws.max_particles = w.integer("max_particles", ws.max_particles, 1);
   sh.lagrangian_tolerance = w.positive("lagrangian_tolerance", sh.lagrangian_tolerance);
   sh.contact_between_layers_only =
       w.boolean("contact_between_layers_only", sh.contact_between_layers_only);

@@ -40,6 +40,9 @@ World::World(const WorldSettings& settings) : settings_(settings) {
     throw InputError("world: contact_distance must be finite");
   if (!(settings.cfl > 0.0 && settings.cfl <= 1.0))
     throw InputError("world: cfl must lie in (0, 1]");
+  if (settings.max_particles < 1)
+    throw InputError("world: max_particles must be at least 1, got " +
+                     std::to_string(settings.max_particles));
   if (settings.grid_spacing > 0.0) checkSpacing("world: ", settings.grid_spacing);
   spacing_ = settings.grid_spacing > 0.0 ? settings.grid_spacing : 0.0;
 }
@@ -66,10 +69,22 @@ Body& World::add(const std::string& name, std::shared_ptr<Body> body) {
   if (body->kernelDegree() != settings_.kernel_degree)
     throw InputError(who + "its kernel degree " + std::to_string(body->kernelDegree()) +
                      " is not the world's " + std::to_string(settings_.kernel_degree));
+  const long particles = static_cast<long>(body->motion().x.size()), held = numParticles();
+  if (particles > settings_.max_particles - held)
+    throw InputError(who + "its " + std::to_string(particles) +
+                     " particles would bring the world to " + std::to_string(held + particles) +
+                     ", over max_particles " + std::to_string(settings_.max_particles) +
+                     " (WorldSettings::max_particles; coarsen it or remove a body)");
   body->setColliders(colliders_, collider_velocities_, collider_frictions_);
   if (spacing_ <= 0.0) spacing_ = dx;
   bodies_.push_back({name, std::move(body)});
   return *bodies_.back().body;
+}
+
+long World::numParticles() const {
+  long n = 0;
+  for (const Entry& e : bodies_) n += static_cast<long>(e.body->motion().x.size());
+  return n;
 }
 
 bool World::remove(const std::string& name) {

@@ -24,6 +24,11 @@ struct WorldSettings {
   // No two bodies close on each other by more than cfl dx in a step (each body bounds its own
   // approach to the obstacles and to itself: mpm/approach_speed.h).
   double cfl = 0.3;
+  // The particles all bodies may put on the grid together (control points, strand vertices,
+  // solid particles): a body that would bring the world beyond it is refused by name, before
+  // its grid is built. Each particle costs about 1-5 kB with its grid nodes, fibres and
+  // solver data, so the default keeps a full world within a few GB.
+  int max_particles = 2000000;
 };
 
 // What one step did.
@@ -62,12 +67,14 @@ class World {
   // Adds a body under a unique name (core/common/names.h) and hands it the colliders. The world
   // shares the body with its driver (a ROS node's garment, a tool's scene), which keeps its own
   // handle for pins and read-out. Throws InputError (and adds nothing) for a bad or duplicate
-  // name, a null body, or a body whose field has another spacing or kernel degree than the
-  // world's.
+  // name, a null body, a body whose field has another spacing or kernel degree than the
+  // world's, or one that would bring the world over settings().max_particles.
   Body& add(const std::string& name, std::shared_ptr<Body> body);
   // Removes the body; false if there is none of that name.
   bool remove(const std::string& name);
   int numBodies() const { return static_cast<int>(bodies_.size()); }
+  // Particles the bodies put on the grid (Body::motion), all together.
+  long numParticles() const;
   Body& body(int index) { return *bodies_[index].body; }
   const Body& body(int index) const { return *bodies_[index].body; }
   const std::string& name(int index) const { return bodies_[index].name; }
