@@ -207,7 +207,7 @@ BENCHMARK(hairOnWalkingHead)
     ->Args({100, 2})
     ->Args({1000, 2})
     ->Args({2000, 2})  // issue 12's real-time goal: 2000 guides of 24 segments on 2 cores
-    ->Iterations(30)  // half a second of walking
+    ->Iterations(30)   // half a second of walking
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
