@@ -245,12 +245,15 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
   const bool same = searched_segments_ == segments_;
   for (int k = 0; k < n && same; ++k)
     if (!searched_boxes_[k].contains(boxes[k])) left.push_back(k);
-  if (!same || static_cast<int>(searched_again_.size() + left.size()) > kSearchAgainLimit) {
-    search(boxes, slack);
-    ++stats.full_searches;
-  } else if (!left.empty()) {
-    searchAgain(boxes, left, slack);
-    ++stats.partial_searches;
+  if (!same || !left.empty()) {
+    const bool few =
+        same && static_cast<int>(searched_again_.size() + left.size()) <= kSearchAgainLimit;
+    if (few && searchAgain(boxes, left, slack)) {
+      ++stats.partial_searches;
+    } else {
+      search(boxes, slack);
+      ++stats.full_searches;
+    }
   }
   pairs_.clear();
   for (const Pair& p : searched_pairs_)
@@ -342,8 +345,16 @@ Eigen::Array3i StrandCollisions::cellOf(const Vec3& p) const {
 // and directly against the boxes searched again before and now (few: their grid entries are
 // stale). The pairs of the boxes that stayed are kept, so the list holds every pair whose
 // grown boxes meet, as after a full search.
-void StrandCollisions::searchAgain(const std::vector<Eigen::AlignedBox3d>& tight,
+bool StrandCollisions::searchAgain(const std::vector<Eigen::AlignedBox3d>& tight,
                                    const std::vector<int>& left, double slack) {
+  // A box grown far beyond the boxes the grid was sized for (a strand thrown or moved by a
+  // jump of its frame) would walk through many of its cells: searched anew instead, on a grid
+  // sized for it.
+  constexpr double kMostCells = 64.0;
+  for (int k : left) {
+    const Eigen::AlignedBox3d b = grownBox(tight[k], slack);
+    if ((b.sizes() / cell_size_).array().ceil().max(1.0).prod() > kMostCells) return false;
+  }
   std::vector<Eigen::AlignedBox3d>& boxes = searched_boxes_;
   std::vector<char> is_left(segments_.size(), 0);
   for (int k : left) {
@@ -400,6 +411,7 @@ void StrandCollisions::searchAgain(const std::vector<Eigen::AlignedBox3d>& tight
       is_searched_again_[k] = 1;
       searched_again_.push_back(k);
     }
+  return true;
 }
 
 void StrandCollisions::applyImpulses(const std::vector<Impulse>& impulses, std::vector<Vec3>& v,

@@ -133,8 +133,9 @@ class StrandCollisions {
   // A new cell search over all boxes grown by at least slack (searched_*, the grid).
   void search(const std::vector<Eigen::AlignedBox3d>& boxes, double slack);
   // The boxes `left` (indices into segments_) searched again, grown by at least slack, against
-  // the last full search's grid and the boxes searched again since.
-  void searchAgain(const std::vector<Eigen::AlignedBox3d>& boxes, const std::vector<int>& left,
+  // the last full search's grid and the boxes searched again since; false (nothing changed)
+  // when one of them spans too many of the grid's cells.
+  bool searchAgain(const std::vector<Eigen::AlignedBox3d>& boxes, const std::vector<int>& left,
                    double slack);
   Eigen::Array3i cellOf(const Eigen::Vector3d& p) const;
   // Applies the impulses, with Coulomb friction: Jacobi-wise (each from the same velocities,
