@@ -21,8 +21,7 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-// The broad phase's cells are numbered from the corner of all boxes with 21 bits per axis, so
-// that a cell is one 64-bit key (StrandCollisions::search).
+// Cells per axis of the broad phase's grid, so that a cell is one 64-bit key (see search).
 constexpr double kCellsPerAxis = double(1 << 21) - 2.0;
 
 std::uint64_t cellKey(int ix, int iy, int iz) {

@@ -25,9 +25,9 @@ struct WorldSettings {
   // approach to the obstacles and to itself: mpm/approach_speed.h).
   double cfl = 0.3;
   // The particles all bodies may put on the grid together (control points, strand vertices,
-  // solid particles): a body that would bring the world beyond it is refused by name, before
-  // its grid is built. Each particle costs about 1-5 kB with its grid nodes, fibres and
-  // solver data, so the default keeps a full world within a few GB.
+  // solid particles): a body that would bring the world beyond it is refused by name and never
+  // joins, so a load too large for the machine's memory fails with a message instead of
+  // swapping or aborting a world that is stepping.
   int max_particles = 2000000;
 };
 
