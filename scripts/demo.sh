@@ -12,6 +12,7 @@ DURATION="${DURATION:-20}"
 MOTION="${MOTION:-arms_raise}"
 HAIR="${HAIR:-0}"
 HAIR_GUIDES="${HAIR_GUIDES:-80}"
+CONFIG="${CONFIG:-}"  # a node configuration instead of config/default.yaml
 if [ "$HAIR" = 1 ]; then
   GARMENT="${GARMENT:-none}"
   HAIR_ARG=true
@@ -45,7 +46,8 @@ sleep 1
 echo "demo: ${DURATION} s of '$MOTION' with a $GARMENT, hair $HAIR_ARG ($HAIR_GUIDES guides) under" \
   "Xvfb $DISPLAY_NUM (log: $LOG)"
 roslaunch cloth_hair_sim demo.launch rviz:=true record:=true bag:="$BAG" duration:="$DURATION" \
-  garment:="$GARMENT" motion:="$MOTION" hair:="$HAIR_ARG" hair_guides:="$HAIR_GUIDES" >"$LOG" 2>&1 &
+  garment:="$GARMENT" motion:="$MOTION" hair:="$HAIR_ARG" hair_guides:="$HAIR_GUIDES" \
+  ${CONFIG:+config:="$(realpath "$CONFIG")"} >"$LOG" 2>&1 &
 launch_pid=$!
 pids+=("$launch_pid")
 

@@ -40,6 +40,7 @@ void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings
   nh.param("contact_shear_stiffness", s.contact.shear_stiffness, s.contact.shear_stiffness);
   nh.param("self_friction", s.contact.friction, s.contact.friction);
   nh.param("display_segments", s.display_segments, s.display_segments);
+  nh.param("surface_collisions", s.surface_collisions, s.surface_collisions);
   std::string integration = "symplectic_euler";
   nh.param("integration", integration, integration);
   try {

@@ -225,6 +225,8 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
   for (const SurfacePoint& sp : t.samples)
     display_stencils_.push_back(surface_->stencil(sp.face, sp.u, sp.v));
   display_triangles_ = t.triangles;
+  if (settings.surface_collisions)
+    surface_collisions_ = std::make_unique<mpm::SurfaceCollisions>(display_stencils_);
 
   free_axes_.assign(nc, Vec3::Ones());
   for (const auto& f : problem.bc.fixed_components) {
@@ -744,6 +746,10 @@ void HybridShellDynamics::transferToParticles(double dt) {
 // Pins, obstacles for the control points, (5.54) for the contact particles and the trial
 // fibres (5.44).
 void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
+  if (surface_collisions_) {
+    surface_start_.resize(numVertices());
+    for (int p = 0; p < numVertices(); ++p) surface_start_[p] = control_.x[p] - dt * control_.v[p];
+  }
   for (int p = 0; p < numVertices(); ++p) {
     if (pins_.isPinned(p)) {
       // Back to the pin's motion (G2P gave it the grid's velocity); the support supplies
@@ -793,6 +799,22 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
     }
   }
   placeClamped(dt);
+  if (surface_collisions_ && !grid_colliders_.empty()) {
+    // The limit surface out of the colliders too (mpm/surface_collisions.h), by moving the
+    // points whose motion is free; clamped points then follow their interior neighbours again.
+    movable_.resize(numVertices());
+    clearance_.resize(numVertices());
+    tbb::parallel_for(0, numVertices(), [&](int p) {
+      movable_[p] = !pins_.isPinned(p) && !clamps_.isSlaved(p) && free_axes_[p] == Vec3::Ones();
+      clearance_[p] = mpm::clearanceOf(control_.x[p], grid_colliders_);
+    });
+    last_surface_collisions_ =
+        surface_collisions_->apply(control_.x, control_.v, surface_start_, control_.mass, movable_,
+                                   clearance_, grid_colliders_, dt, collider_impulse_);
+    for (int p = 0; p < numVertices(); ++p)
+      if (surface_collisions_->moved(p)) control_.C[p].setZero();
+    if (last_surface_collisions_.iterations > 0) placeClamped(dt);
+  }
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     contact_.p.x[p] = contact_.stencil.position(p, control_.x);  // (5.54)
     contact_.fibre[p] = contact_.p.F[p] * contact_.fibre[p];     // (5.44)

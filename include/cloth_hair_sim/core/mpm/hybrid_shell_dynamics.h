@@ -18,6 +18,7 @@
 #include "cloth_hair_sim/core/mpm/particle_projection.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
 #include "cloth_hair_sim/core/mpm/support_nodes.h"
+#include "cloth_hair_sim/core/mpm/surface_collisions.h"
 #include "cloth_hair_sim/core/mpm/time_integration.h"
 #include "cloth_hair_sim/core/shell/contact_potential.h"
 #include "cloth_hair_sim/core/shell/hencky_lamina.h"
@@ -96,6 +97,9 @@ struct HybridShellSettings {
   mpm::ColliderBoundary boundary = mpm::ColliderBoundary::kSeparating;
   double friction = 0.0;
   int display_segments = 3;  // limit-surface tessellation per face edge for displaySurface()
+  // Keep that tessellated limit surface, not only the control points, out of the obstacles
+  // (mpm/surface_collisions.h); false: the grid and the control points alone, as in Han.
+  bool surface_collisions = true;
   // Larger garments are refused at construction: each control point brings ~20 quadrature
   // points and ~1 kB of stencils, and an explicit step of 8K points already takes ~0.1 s.
   int max_control_points = 100000;
@@ -237,6 +241,10 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   const NewtonKrylovResult& lastImplicitSolve() const { return last_solve_; }
   // The Lagrangian implicit step's elastic solve of the last step.
   const ImplicitElasticityResult& lastElasticSolve() const { return last_elastic_; }
+  // The last step's pass keeping the limit surface out of the obstacles.
+  const mpm::SurfaceCollisionResult& lastSurfaceCollisions() const {
+    return last_surface_collisions_;
+  }
   int implicitFallbacks() const { return implicit_fallbacks_; }
   const LimitSurface& limitSurface() const { return *surface_; }
   // Points of the limit surface now (the display samples), for audits.
@@ -310,6 +318,13 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   double solid_wave_speed_ = 0.0;  // fastest dilatational wave of the solid's particles
   std::vector<SurfaceStencil> display_stencils_;
   std::vector<std::array<int, 3>> display_triangles_;
+  // The displayed surface held out of the obstacles (null: settings.surface_collisions off), the
+  // control positions at the step's start, which points may move, and their clearances.
+  std::unique_ptr<mpm::SurfaceCollisions> surface_collisions_;
+  std::vector<Eigen::Vector3d> surface_start_;
+  std::vector<char> movable_;
+  std::vector<mpm::Clearance> clearance_;
+  mpm::SurfaceCollisionResult last_surface_collisions_;
 
   mpm::SparseGrid grid_;
   // The contact particles' mass-supported weight gradients, from transferToGrid to
