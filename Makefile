@@ -31,12 +31,13 @@ test: build
 # The drape tool's tablecloth, then launch/demo.launch for DEMO_DURATION s under Xvfb twice, the
 # garment on the moving mannequin ($(DEMO_OUT)/ros) and hair on its head ($(DEMO_OUT)/hair): a
 # bag, rviz screenshots (PNG) and a summary (substeps, real-time factor) in each.
-DEMO_DURATION ?= 20
+DEMO_DURATION ?= 60
+DEMO_HAIR_DURATION ?= 20
 demo: build
 	$(BIN)/drape scenes/tablecloth_fem.yaml --out $(DEMO_OUT)/tablecloth
 	@echo "demo: draped mesh, report.json and pictures are in $(DEMO_OUT)/tablecloth"
 	HAIR=0 DURATION=$(DEMO_DURATION) bash scripts/demo.sh $(DEMO_OUT)/ros $(BUILD)
-	HAIR=1 DURATION=$(DEMO_DURATION) bash scripts/demo.sh $(DEMO_OUT)/hair $(BUILD)
+	HAIR=1 DURATION=$(DEMO_HAIR_DURATION) bash scripts/demo.sh $(DEMO_OUT)/hair $(BUILD)
 
 format:
 	find include src test -name '*.h' -o -name '*.cpp' | xargs clang-format -i

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <geometry_msgs/WrenchStamped.h>
+#include <rosgraph_msgs/Clock.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -117,8 +118,22 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
   load_state_srv_ = pnh_.advertiseService("load_state", &SimNode::loadState, this);
   timer_nh_ = nh_;
   timer_nh_.setCallbackQueue(&timer_queue_);
-  step_timer_ =
-      timer_nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
+  if (params_.publish_clock) {
+    // Under /use_sim_time a ros::Timer waits for /clock, which this node publishes: it steps on
+    // wall time instead. The clock starts at the wall time, so stamps look like a live run's.
+    if (!ros::Time::isSimTime())
+      ROS_WARN("~publish_clock is set but /use_sim_time is not: other nodes ignore /clock");
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+    clock_ = ros::Time(ros::WallTime::now().toSec());
+    rosgraph_msgs::Clock c;
+    c.clock = clock_;
+    clock_pub_.publish(c);
+    clock_timer_ = timer_nh_.createWallTimer(ros::WallDuration(1.0 / params_.step_rate),
+                                             &SimNode::onClockTimer, this);
+  } else {
+    step_timer_ =
+        timer_nh_.createTimer(ros::Duration(1.0 / params_.step_rate), &SimNode::onStepTimer, this);
+  }
   status_timer_ = timer_nh_.createTimer(ros::Duration(1.0 / params_.status_rate),
                                         &SimNode::onStatusTimer, this);
   marker_timer_ = timer_nh_.createTimer(ros::Duration(1.0 / params_.marker_rate),
@@ -539,13 +554,31 @@ std::vector<std::string> SimNode::dropGrasps(const std::string& garment) {
 }
 
 void SimNode::onStepTimer(const ros::TimerEvent& event) {
-  const WorldLock lock(*this);
-  refreshColliders();
-  refreshAttachments();
   const double period = 1.0 / params_.step_rate;
   double elapsed =
       event.last_real.isZero() ? period : (event.current_real - event.last_real).toSec();
   if (!(elapsed > 0.0)) elapsed = period;
+  update(elapsed);
+}
+
+void SimNode::onClockTimer(const ros::WallTimerEvent& event) {
+  const double period = 1.0 / params_.step_rate;
+  double wall = event.last_real.isZero() ? period : (event.current_real - event.last_real).toSec();
+  if (!(wall > 0.0)) wall = period;
+  // The clock advances by what the update simulated; with nothing to step, at the requested pace.
+  const double idle = (params_.real_time_factor > 0.0 ? params_.real_time_factor : 1.0) * wall;
+  update(wall);
+  clock_ += ros::Duration(last_.substeps > 0 ? last_.substeps * last_.dt : idle);
+  rosgraph_msgs::Clock c;
+  c.clock = clock_;
+  clock_pub_.publish(c);
+}
+
+void SimNode::update(double elapsed) {
+  const WorldLock lock(*this);
+  refreshColliders();
+  refreshAttachments();
+  const double period = 1.0 / params_.step_rate;
   if (paused_ || (garments_.empty() &&
                   hairs_.empty())) {  // keeps the substep of the last ~step for the status
     input_lag_ = 0.0;
@@ -583,7 +616,7 @@ void SimNode::onStepTimer(const ros::TimerEvent& event) {
   // up to ~max_input_lag, for later updates to catch up (they simulate it on top of their own
   // time while their substeps allow).
   double reach = 1.0;
-  if (params_.real_time_factor > 0.0) {
+  if (params_.real_time_factor > 0.0 && !params_.publish_clock) {
     const double span = input_lag_ + params_.real_time_factor * elapsed;
     reach = n * h >= (1.0 - 1e-9) * span ? 1.0 : n * h / span;
     if (span * (1.0 - reach) > params_.max_input_lag) reach = 1.0 - params_.max_input_lag / span;

@@ -80,6 +80,7 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   nh.param("dt", p.dt, p.dt);
   nh.param("step_rate", p.step_rate, p.step_rate);
   nh.param("real_time_factor", p.real_time_factor, p.real_time_factor);
+  nh.param("publish_clock", p.publish_clock, p.publish_clock);
   nh.param("max_substeps", p.max_substeps, p.max_substeps);
   nh.param("max_update_wall", p.max_update_wall, p.max_update_wall);
   nh.param("max_input_lag", p.max_input_lag, p.max_input_lag);
@@ -89,6 +90,9 @@ SimParams loadSimParams(const ros::NodeHandle& nh) {
   nh.param("damping", p.damping, p.damping);
   nh.param("max_speed", p.max_speed, p.max_speed);
   nh.param("tf_timeout", p.tf_timeout, p.tf_timeout);
+  // Waiting for a transform waits for the clock to advance, and with ~publish_clock that clock
+  // is this node's own, stopped while it waits: take the latest transform instead.
+  if (p.publish_clock) p.tf_timeout = 0.0;
   nh.param("tf_max_age", p.tf_max_age, p.tf_max_age);
   std::vector<double> g;
   if (nh.getParam("gravity", g)) {

@@ -56,6 +56,10 @@ class SimNode {
   };
 
   void onStepTimer(const ros::TimerEvent& event);
+  void onClockTimer(const ros::WallTimerEvent& event);  // ~publish_clock: steps, then /clock
+  // One update over `elapsed` seconds of the clock the node follows (wall or /clock); with
+  // ~publish_clock the inputs share the node's clock and never lag it.
+  void update(double elapsed);
   void onStatusTimer(const ros::TimerEvent& event);
   void onMarkerTimer(const ros::TimerEvent& event);
 
@@ -263,6 +267,9 @@ class SimNode {
   ros::CallbackQueue timer_queue_;
   ros::NodeHandle timer_nh_;
   ros::Timer step_timer_, status_timer_, marker_timer_;
+  ros::WallTimer clock_timer_;
+  ros::Publisher clock_pub_;
+  ros::Time clock_;  // ~publish_clock: the time last published on /clock
   std::unique_ptr<SimDiagnostics> diagnostics_;
   std::unique_ptr<ros::AsyncSpinner> timer_spinner_;
   // Last: destroyed first, it cancels and waits for a running drape that uses the members above.

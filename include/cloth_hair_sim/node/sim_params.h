@@ -19,7 +19,11 @@ struct SimParams {
   double dt = 1e-3;               // [s] largest substep (garments may need smaller: stable step)
   double step_rate = 100.0;       // [Hz] updates per second
   double real_time_factor = 1.0;  // simulated / wall (or /clock) seconds; 0: as fast as possible
-  int max_substeps = 500;         // per update; beyond it the simulation falls behind
+  // The node is the clock (run with /use_sim_time): it publishes /clock, advanced by what it
+  // simulates, so that the nodes moving its inputs (a robot, a mannequin's animator) move at the
+  // speed it simulates however far below real time that is. Off: it follows wall or /clock time.
+  bool publish_clock = false;
+  int max_substeps = 500;  // per update; beyond it the simulation falls behind
   // [s] an update takes no more substeps than fit in this much wall time at the last update's
   // cost per substep: it holds the simulation's mutex, so services wait for it.
   double max_update_wall = 0.05;
