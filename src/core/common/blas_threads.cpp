@@ -1,14 +1,11 @@
 #include "cloth_hair_sim/core/common/blas_threads.h"
 
-#include <atomic>
 #include <mutex>
 
 #include <dlfcn.h>
 
 namespace chs {
 namespace {
-
-std::atomic<int> concurrent_callers{0};
 
 void setBlasThreads(int threads) {
   static const auto set =
@@ -29,26 +26,6 @@ void keepCholmodTeamsSmall() {
 void holdBlasToOneThread() {
   static std::once_flag once;
   std::call_once(once, [] { setBlasThreads(1); });
-}
-
-ScopedBlasThreads::ScopedBlasThreads(int threads) {
-  holdBlasToOneThread();
-  if (threads <= 1 || concurrent_callers.load() > 0) return;
-  setBlasThreads(threads);
-  changed_ = true;
-}
-
-ScopedBlasThreads::~ScopedBlasThreads() {
-  if (changed_) setBlasThreads(1);
-}
-
-ConcurrentBlasCallers::ConcurrentBlasCallers() {
-  holdBlasToOneThread();
-  ++concurrent_callers;
-}
-
-ConcurrentBlasCallers::~ConcurrentBlasCallers() {
-  --concurrent_callers;
 }
 
 }  // namespace chs

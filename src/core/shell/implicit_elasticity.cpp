@@ -12,7 +12,6 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "cloth_hair_sim/core/common/blas_threads.h"
 #include "cloth_hair_sim/core/common/input_error.h"
@@ -191,14 +190,12 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
     factor_->llt.analyzePattern(matrix_);
     factor_->analyzed = true;
   }
-  {
-    // The arena's threads for the factorisation alone, when TBB's are idle: the towel's 2028
-    // unknowns then factorise in 15 ms instead of 22-26 on two cores (one core alone: 17 ms, the
-    // other core's idle TBB workers slowing the single BLAS thread).
-    const ScopedBlasThreads blas(tbb::this_task_arena::max_concurrency());
-    keepCholmodTeamsSmall();
-    factor_->llt.factorize(matrix_);
-  }
+  // On one BLAS thread (common/blas_threads.h): lent a second one, the towel's 2028 unknowns
+  // factorised in 15 ms instead of 22-26, but its worker then spun in sched_yield through the
+  // TBB stages that followed, a third of a core in the node's demo (perf), and whole runs were
+  // slower (docs/BENCHMARKS.md, 2026-12-06).
+  keepCholmodTeamsSmall();
+  factor_->llt.factorize(matrix_);
   factored_ = factor_->llt.info() == Eigen::Success;
   result.factorization_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - assembled).count();

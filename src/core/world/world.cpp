@@ -2,12 +2,10 @@
 
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "cloth_hair_sim/core/common/blas_threads.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/mesh/scene_scale.h"
@@ -146,9 +144,6 @@ WorldStepReport World::step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw InputError("world: time step must be positive, got " + std::to_string(dt));
   WorldStepReport report;
-  // Several bodies may factorise at once: the BLAS keeps one thread (common/blas_threads.h).
-  std::optional<ConcurrentBlasCallers> concurrent;
-  if (bodies_.size() > 1) concurrent.emplace();
   forEachBody([dt](Entry& e) { e.body->beginStep(dt); });
   forEachBody([](Entry& e) { e.body->transferToGrid(); });
   std::vector<char> converged(bodies_.size(), 1);
