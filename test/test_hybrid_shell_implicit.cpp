@@ -243,6 +243,9 @@ TEST(HybridShellImplicit, RejectsNonsense) {
   s = backwardEuler(0.01);
   s.max_newton_iterations = 0;
   EXPECT_THROW((HybridShellDynamics{p, s}), InputError);
+  s = backwardEuler(0.01);
+  s.elastic_max_iterations = 0;
+  EXPECT_THROW((HybridShellDynamics{p, s}), InputError);
 }
 
 }  // namespace

@@ -409,7 +409,7 @@ TEST(HybridShellLagrangian, LbfgsOnTheKeptFactorReachesTheSameStates) {
   auto run = [&](bool reuse, int history) {
     HybridShellSettings s = lagrangian(dt);
     s.lagrangian_tolerance = 1e-9;
-    s.max_newton_iterations = 40;
+    s.elastic_max_iterations = 40;
     s.reuse_factorization = reuse;
     s.elastic_history = history;
     HybridShellDynamics d(sheet.problem, s);

@@ -16,7 +16,8 @@ const char* kScene = R"(
 name: pair
 duration: 0.5
 frame_rate: 20
-world: {grid_spacing: 0.02, body_friction: 0.4, integration: backward_euler, damping: 1.5}
+world: {grid_spacing: 0.02, body_friction: 0.4, integration: backward_euler, damping: 1.5,
+        elastic_max_iterations: 12}
 bodies:
   - name: towel
     rectangle: {size: [0.2, 0.1], cells: [4, 2]}
@@ -62,6 +63,7 @@ TEST(SimulationScene, ParsesBodiesWorldAndScriptedColliders) {
   EXPECT_DOUBLE_EQ(s.world.body_friction, 0.4);
   EXPECT_EQ(s.shell.integration, TimeIntegration::kBackwardEuler);
   EXPECT_DOUBLE_EQ(s.shell.damping, 1.5);
+  EXPECT_EQ(s.shell.elastic_max_iterations, 12);
   ASSERT_EQ(s.bodies.size(), 1u);
   const SimulationBody& b = s.bodies[0];
   EXPECT_EQ(b.name, "towel");
@@ -136,6 +138,8 @@ TEST(SimulationScene, RefusesBadInputNamingTheKey) {
               "name: wall\n    plane: {}\n  - name: wall\n    plane: {}\n  - name: ball"),
        "colliders[2].name: 'wall' is used twice"},
       {edited("duration: 0.5", "duration: -1"), "duration: must be positive"},
+      {edited("elastic_max_iterations: 12", "elastic_max_iterations: 0"),
+       "world.elastic_max_iterations: must be"},
       {edited("cells: [4, 2]", "cells: [4, 2.5]"),
        "bodies[0].rectangle.cells: must be positive integers"},
       {edited("material: {preset: cotton_eischen, areal_density: 0.3}", "material: silk"),

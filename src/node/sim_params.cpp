@@ -53,12 +53,14 @@ void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings
   nh.param("contact_between_layers_only", s.contact_between_layers_only,
            s.contact_between_layers_only);
   nh.param("max_newton_iterations", s.max_newton_iterations, s.max_newton_iterations);
+  nh.param("elastic_max_iterations", s.elastic_max_iterations, s.elastic_max_iterations);
   nh.param("max_krylov_iterations", s.max_krylov_iterations, s.max_krylov_iterations);
   if (!(s.implicit_tolerance > 0.0) || !(s.lagrangian_tolerance > 0.0) ||
-      s.max_newton_iterations < 1 || s.max_krylov_iterations < 1)
+      s.max_newton_iterations < 1 || s.max_krylov_iterations < 1 || s.elastic_max_iterations < 1)
     throw chs::InputError(
         "parameters ~mpm/implicit_tolerance, ~mpm/lagrangian_tolerance, "
-        "~mpm/max_newton_iterations and ~mpm/max_krylov_iterations must be positive");
+        "~mpm/max_newton_iterations, ~mpm/elastic_max_iterations and ~mpm/max_krylov_iterations "
+        "must be positive");
   if (s.kernel_degree != 2 && s.kernel_degree != 3)
     throw chs::InputError("parameter ~mpm/kernel_degree must be 2 or 3");
   if (s.kirchhoff_love.in_plane_order < 2 || s.kirchhoff_love.in_plane_order > 4)

@@ -398,6 +398,7 @@ void parseWorld(const YAML::Node& node, SimulationScene& scene) {
   ws.cfl = sh.cfl;  // between bodies as within each
   ws.max_particles = w.integer("max_particles", ws.max_particles, 1);
   sh.lagrangian_tolerance = w.positive("lagrangian_tolerance", sh.lagrangian_tolerance);
+  sh.elastic_max_iterations = w.integer("elastic_max_iterations", sh.elastic_max_iterations, 1);
   sh.contact_between_layers_only =
       w.boolean("contact_between_layers_only", sh.contact_between_layers_only);
   sh.display_segments = w.integer("display_segments", sh.display_segments, 1);

@@ -79,7 +79,7 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
   positive(s.lagrangian_tolerance, "Lagrangian solve tolerance");
   if (s.elastic_history < 0 || s.elastic_history > 64)
     throw InputError("hybrid shell: L-BFGS history of the elastic solve must lie in 0..64");
-  if (s.max_newton_iterations < 1 || s.max_krylov_iterations < 1)
+  if (s.max_newton_iterations < 1 || s.max_krylov_iterations < 1 || s.elastic_max_iterations < 1)
     throw InputError("hybrid shell: Newton and Krylov iteration limits must be at least 1");
   if (!(s.krylov_tolerance > 0.0 && s.krylov_tolerance < 1.0))
     throw InputError("hybrid shell: Krylov tolerance must lie in (0, 1)");
@@ -360,7 +360,7 @@ void HybridShellDynamics::solveElasticity(double dt) {
   clamps_.placePositions(x);
   ImplicitElasticitySettings es;
   es.tolerance = settings_.lagrangian_tolerance;
-  es.max_iterations = settings_.max_newton_iterations;
+  es.max_iterations = settings_.elastic_max_iterations;
   es.reuse_factorization = settings_.reuse_factorization;
   es.history = settings_.elastic_history;
   last_elastic_ = elasticity_->solve(
