@@ -373,18 +373,31 @@ TEST(HybridShellValidation, DentingKeepsAPermanentSetOnlyBeyondYield) {
 // ---------------------------------------------------------------------------------------------
 // 4. A cloth dropped on a sphere: the limit surface stays outside to a quarter cell.
 
+// The test cloth `mesh` under gravity on one collider with Coulomb mu, damped at 10/s, with the
+// integrator under test.
+struct ClothOnCollider {
+  DrapeProblem problem;
+  HybridShellSettings settings;
+};
+
+ClothOnCollider clothOn(QuadMesh mesh, std::shared_ptr<const RigidSurface> collider, double mu) {
+  ClothOnCollider c;
+  c.problem.mesh = std::move(mesh);
+  c.problem.material = testCloth(2e5, 5e-4, 0.2);
+  c.problem.gravity = Vec3(0.0, 0.0, -kG);
+  c.problem.colliders = {std::move(collider)};
+  c.settings = settingsUnderTest();
+  c.settings.friction = mu;
+  c.settings.damping = 10.0;
+  return c;
+}
+
 TEST(HybridShellValidation, ClothOnSphereDoesNotPenetrate) {
   WallClock clock("sphere");
   constexpr double R = 0.03;
-  DrapeProblem p;
-  p.mesh = makeRectangleMesh(0.08, 0.08, 8, 8, Vec3(0.0, 0.0, R + 0.005));
-  p.material = testCloth(2e5, 5e-4, 0.2);
-  p.gravity = Vec3(0.0, 0.0, -kG);
-  HybridShellSettings s = settingsUnderTest();
-  s.friction = 0.3;
-  s.damping = 10.0;
-  p.colliders = {std::make_shared<SphereSurface>(Vec3::Zero(), R)};
-  HybridShellDynamics d(p, s);
+  const ClothOnCollider c = clothOn(makeRectangleMesh(0.08, 0.08, 8, 8, Vec3(0.0, 0.0, R + 0.005)),
+                                    std::make_shared<SphereSurface>(Vec3::Zero(), R), 0.3);
+  HybridShellDynamics d(c.problem, c.settings);
   double deepest = 0.0;
   runUntil(d, 0.3, [&] { deepest = std::max(deepest, d.deepestPenetration()); });
   const double final_depth = d.deepestPenetration(), dx = d.gridSpacing();
@@ -414,16 +427,11 @@ struct BarDrape {
 
 BarDrape drapeOverBar(bool surface_collisions) {
   constexpr double R = 0.038, t_end = 1.5, window = 0.3;
-  DrapeProblem p;
-  p.mesh = makeRectangleMesh(0.4, 0.16, 10, 4, Vec3(0.0, 0.0, R + 0.004));
-  p.material = testCloth(2e5, 5e-4, 0.2);
-  p.gravity = Vec3(0.0, 0.0, -kG);
-  HybridShellSettings s = settingsUnderTest();
-  s.friction = 0.5;
-  s.damping = 10.0;
-  s.surface_collisions = surface_collisions;
-  p.colliders = {std::make_shared<CapsuleSurface>(Vec3(0.0, -0.2, 0.0), Vec3(0.0, 0.2, 0.0), R)};
-  HybridShellDynamics d(p, s);
+  ClothOnCollider c =
+      clothOn(makeRectangleMesh(0.4, 0.16, 10, 4, Vec3(0.0, 0.0, R + 0.004)),
+              std::make_shared<CapsuleSurface>(Vec3(0.0, -0.2, 0.0), Vec3(0.0, 0.2, 0.0), R), 0.5);
+  c.settings.surface_collisions = surface_collisions;
+  HybridShellDynamics d(c.problem, c.settings);
   BarDrape r;
   double impulse = 0.0, span = 0.0;
   runUntil(d, t_end, [&] {

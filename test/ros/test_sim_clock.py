@@ -9,8 +9,8 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 from cloth_hair_sim.msg import SimStatus
-from cloth_hair_sim.srv import LoadGarment, LoadGarmentRequest
 from latest_message import LatestMessage
+from small_cloth import load_small_cloth
 
 
 class SimClock(unittest.TestCase):
@@ -32,11 +32,7 @@ class SimClock(unittest.TestCase):
         time.sleep(1.0)
         idle_pace = (self.clock_now() - c0) / (time.time() - w0)
         rospy.wait_for_service('/sim/load_garment', timeout=20.0)
-        load = rospy.ServiceProxy('/sim/load_garment', LoadGarment)
-        req = LoadGarmentRequest(name='cloth', rectangle_size=[0.1, 0.1], rectangle_cells=[2, 2],
-                                 material='cotton_eischen', pinned=[6, 8])
-        req.pose.orientation.w = 1.0
-        self.assertTrue(load(req).success)
+        self.assertTrue(load_small_cloth())
         for _ in range(100):
             status = self.status.get()
             if status is not None and status.garments == 1 and status.steps > 0:

@@ -9,8 +9,8 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 from cloth_hair_sim.msg import SimStatus
-from cloth_hair_sim.srv import LoadGarment, LoadGarmentRequest
 from latest_message import LatestMessage
+from small_cloth import load_small_cloth
 
 
 class SimTime(unittest.TestCase):
@@ -42,11 +42,7 @@ class SimTime(unittest.TestCase):
             except rospy.ROSException:
                 pass
         self.assertTrue(loaded, 'no ~load_garment service')
-        load = rospy.ServiceProxy('/sim/load_garment', LoadGarment)
-        req = LoadGarmentRequest(name='cloth', rectangle_size=[0.1, 0.1], rectangle_cells=[2, 2],
-                                 material='cotton_eischen', pinned=[6, 8])
-        req.pose.orientation.w = 1.0
-        self.assertTrue(load(req).success)
+        self.assertTrue(load_small_cloth())
         # Until the first status with the garment arrives (subscriptions take a moment).
         for _ in range(200):
             status = self.status.get()
