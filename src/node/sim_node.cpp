@@ -565,10 +565,16 @@ void SimNode::onClockTimer(const ros::WallTimerEvent& event) {
   const double period = 1.0 / params_.step_rate;
   double wall = event.last_real.isZero() ? period : (event.current_real - event.last_real).toSec();
   if (!(wall > 0.0)) wall = period;
-  // The clock advances by what the update simulated; with nothing to step, at the requested pace.
+  // The clock advances by what the update simulated; with nothing to step, at the requested
+  // pace; paused, not at all (the world and everything moving with it wait; ~step advances it).
   const double idle = (params_.real_time_factor > 0.0 ? params_.real_time_factor : 1.0) * wall;
   update(wall);
-  clock_ += ros::Duration(last_.substeps > 0 ? last_.substeps * last_.dt : idle);
+  if (paused_) return;
+  advanceClock(last_.substeps > 0 ? last_.substeps * last_.dt : idle);
+}
+
+void SimNode::advanceClock(double seconds) {
+  clock_ += ros::Duration(seconds);
   rosgraph_msgs::Clock c;
   c.clock = clock_;
   clock_pub_.publish(c);
@@ -1036,6 +1042,7 @@ bool SimNode::step(cloth_hair_sim::StepSim::Request& req, cloth_hair_sim::StepSi
     refreshAttachments();
     const double h = substepLimit();
     advance(req.steps, h);
+    if (params_.publish_clock) advanceClock(req.steps * h);
     publishGraspWrenches(req.steps * h);
     last_ = UpdateStats();
     last_.dt = h;

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """rostest (test/ros/sim_clock.test): with ~publish_clock the node is the clock. With nothing to
 step /clock runs at the wall's pace; with a garment it advances by exactly what the node
-simulates (here a tenth of real time), and ~status is stamped on it."""
+simulates (here a tenth of real time), and ~status is stamped on it; paused, it stands, and
+~step advances it by the steps taken."""
 import time
 import unittest
 
@@ -9,6 +10,8 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 from cloth_hair_sim.msg import SimStatus
+from std_srvs.srv import SetBool
+from cloth_hair_sim.srv import StepSim
 from latest_message import LatestMessage
 from small_cloth import load_small_cloth
 
@@ -52,6 +55,25 @@ class SimClock(unittest.TestCase):
         self.assertGreater(clock_pace, 0.005)  # it advances (the garment's stable step is < 1 ms)
         self.assertLess(clock_pace, 0.3)  # 100 updates of 1 ms per wall second at most
         self.assertAlmostEqual(stamped, simulated, delta=0.01)
+
+        pause = rospy.ServiceProxy('/sim/pause', SetBool)
+        self.assertTrue(pause(True).success)
+        time.sleep(0.3)  # an update under way ends
+        c3 = self.clock_now()
+        time.sleep(1.0)
+        c4 = self.clock_now()
+        step = rospy.ServiceProxy('/sim/step', StepSim)
+        before = step(1).sim_time
+        time.sleep(0.3)
+        c5 = self.clock_now()
+        after = step(10).sim_time
+        time.sleep(0.3)
+        c6 = self.clock_now()
+        print('paused: /clock moved %.4f s in 1 s of wall; ~step 10: simulated %.4f s, /clock %.4f s'
+              % (c4 - c3, after - before, c6 - c5))
+        self.assertEqual(c4, c3)
+        self.assertGreater(after - before, 0.0)
+        self.assertAlmostEqual(c6 - c5, after - before, delta=1e-6)
 
 
 if __name__ == '__main__':

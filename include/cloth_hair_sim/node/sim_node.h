@@ -57,6 +57,7 @@ class SimNode {
 
   void onStepTimer(const ros::TimerEvent& event);
   void onClockTimer(const ros::WallTimerEvent& event);  // ~publish_clock: steps, then /clock
+  void advanceClock(double seconds);                    // ~publish_clock: /clock moves on
   // One update over `elapsed` seconds of the clock the node follows (wall or /clock); with
   // ~publish_clock the inputs share the node's clock and never lag it.
   void update(double elapsed);
