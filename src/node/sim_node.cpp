@@ -125,9 +125,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
       ROS_WARN("~publish_clock is set but /use_sim_time is not: other nodes ignore /clock");
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
     clock_ = ros::Time(ros::WallTime::now().toSec());
-    rosgraph_msgs::Clock c;
-    c.clock = clock_;
-    clock_pub_.publish(c);
+    advanceClock(0.0);
     clock_timer_ = timer_nh_.createWallTimer(ros::WallDuration(1.0 / params_.step_rate),
                                              &SimNode::onClockTimer, this);
   } else {
