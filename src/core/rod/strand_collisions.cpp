@@ -254,9 +254,20 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
       ++stats.full_searches;
     }
   }
+  // The kept list filtered in its order (the impulse passes' order, and so their result, is the
+  // same as a serial filter's): the tests in parallel, then the copy.
+  const std::size_t m = searched_pairs_.size();
+  keep_.resize(m);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, m, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          const Pair& p = searched_pairs_[i];
+          keep_[i] = boxes[segment_index_[p.a]].intersects(boxes[segment_index_[p.b]]);
+        }
+      });
   pairs_.clear();
-  for (const Pair& p : searched_pairs_)
-    if (boxes[segment_index_[p.a]].intersects(boxes[segment_index_[p.b]])) pairs_.push_back(p);
+  for (std::size_t i = 0; i < m; ++i)
+    if (keep_[i]) pairs_.push_back(searched_pairs_[i]);
 }
 
 // All pairs of segments (not sharing a vertex) whose boxes, grown by the slack, meet: each box

@@ -156,6 +156,7 @@ class StrandCollisions {
   std::vector<int> searched_segments_;
   std::vector<Eigen::AlignedBox3d> searched_boxes_;
   std::vector<Pair> searched_pairs_;
+  std::vector<char> keep_;  // scratch of candidates(): which of searched_pairs_ meet now
   std::vector<int> segment_index_;
   // The last full search's uniform grid: cell size, corner, and its entries by cell key.
   struct CellEntry {
