@@ -28,9 +28,10 @@ test: build
 	cd $(BUILD) && ROSCONSOLE_STDOUT_LINE_BUFFERED=1 bash -c \
 	  'source devel/setup.bash && ctest --output-on-failure -j$(JOBS)'
 
-# The drape tool's tablecloth, then launch/demo.launch for DEMO_DURATION s under Xvfb twice, the
-# garment on the moving mannequin ($(DEMO_OUT)/ros) and hair on its head ($(DEMO_OUT)/hair): a
-# bag, rviz screenshots (PNG) and a summary (substeps, real-time factor) in each.
+# The drape tool's tablecloth, then launch/demo.launch under Xvfb twice on the simulator's clock:
+# the garment on the moving mannequin for DEMO_DURATION s ($(DEMO_OUT)/ros) and hair on its head
+# for DEMO_HAIR_DURATION s ($(DEMO_OUT)/hair): a bag, rviz screenshots (PNG) and a summary
+# (substeps, real-time factor, deepest penetration) in each.
 DEMO_DURATION ?= 60
 DEMO_HAIR_DURATION ?= 20
 demo: build
