@@ -73,6 +73,7 @@ TEST(SurfaceCollisions, DepthFromBeforeTheStepIsRemovedWithoutAKick) {
       deepestSample(r));
   EXPECT_EQ(result.samples_inside, 6);
   EXPECT_LE(deepestSample(r), 1e-6);
+  EXPECT_NEAR(result.deepest, deepestSample(r), 1e-12);  // what it reports is what is left
   for (const Vec3& v : r.v) EXPECT_EQ(v, Vec3::Zero());
   EXPECT_EQ(impulses[0].linear, Vec3::Zero());
 }

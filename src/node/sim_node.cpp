@@ -566,9 +566,9 @@ void SimNode::onClockTimer(const ros::WallTimerEvent& event) {
   // The clock advances by what the update simulated; with nothing to step, at the requested
   // pace; paused, not at all (the world and everything moving with it wait; ~step advances it).
   const double idle = (params_.real_time_factor > 0.0 ? params_.real_time_factor : 1.0) * wall;
-  update(wall);
+  const double simulated = update(wall);
   if (paused_) return;
-  advanceClock(last_.substeps > 0 ? last_.substeps * last_.dt : idle);
+  advanceClock(simulated > 0.0 ? simulated : idle);
 }
 
 void SimNode::advanceClock(double seconds) {
@@ -578,7 +578,7 @@ void SimNode::advanceClock(double seconds) {
   clock_pub_.publish(c);
 }
 
-void SimNode::update(double elapsed) {
+double SimNode::update(double elapsed) {
   const WorldLock lock(*this);
   refreshColliders();
   refreshAttachments();
@@ -589,7 +589,7 @@ void SimNode::update(double elapsed) {
     last_.substeps = 0;
     last_.wall_per_step = last_.real_time_factor = 0.0;
     publishGraspWrenches(0.0);
-    return;
+    return 0.0;
   }
   // After a stall (a slow callback, a paused /clock) do not try to catch up all at once.
   const double budget = std::min(elapsed, 5.0 * period);
@@ -635,6 +635,7 @@ void SimNode::update(double elapsed) {
   last_.real_time_factor = n * h / std::max(elapsed, wall);
   publishGraspWrenches(n * h);
   publishColliderWrenches();
+  return n * h;
 }
 
 void SimNode::onStatusTimer(const ros::TimerEvent&) {

@@ -59,8 +59,9 @@ class SimNode {
   void onClockTimer(const ros::WallTimerEvent& event);  // ~publish_clock: steps, then /clock
   void advanceClock(double seconds);                    // ~publish_clock: /clock moves on
   // One update over `elapsed` seconds of the clock the node follows (wall or /clock); with
-  // ~publish_clock the inputs share the node's clock and never lag it.
-  void update(double elapsed);
+  // ~publish_clock the inputs share the node's clock and never lag it. Returns the seconds it
+  // simulated (0: paused or nothing to step).
+  double update(double elapsed);
   void onStatusTimer(const ros::TimerEvent& event);
   void onMarkerTimer(const ros::TimerEvent& event);
 

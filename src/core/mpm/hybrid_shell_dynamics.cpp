@@ -746,7 +746,8 @@ void HybridShellDynamics::transferToParticles(double dt) {
 // Pins, obstacles for the control points, (5.54) for the contact particles and the trial
 // fibres (5.44).
 void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
-  if (surface_collisions_) {
+  const bool surface_collisions = surface_collisions_ && !grid_colliders_.empty();
+  if (surface_collisions) {
     surface_start_.resize(numVertices());
     for (int p = 0; p < numVertices(); ++p) surface_start_[p] = control_.x[p] - dt * control_.v[p];
   }
@@ -799,7 +800,7 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
     }
   }
   placeClamped(dt);
-  if (surface_collisions_ && !grid_colliders_.empty()) {
+  if (surface_collisions) {
     // The limit surface out of the colliders too (mpm/surface_collisions.h), by moving the
     // points whose motion is free; clamped points then follow their interior neighbours again.
     movable_.resize(numVertices());
@@ -808,12 +809,12 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
       movable_[p] = !pins_.isPinned(p) && !clamps_.isSlaved(p) && free_axes_[p] == Vec3::Ones();
       clearance_[p] = mpm::clearanceOf(control_.x[p], grid_colliders_);
     });
-    last_surface_collisions_ =
+    const mpm::SurfaceCollisionResult pushed =
         surface_collisions_->apply(control_.x, control_.v, surface_start_, control_.mass, movable_,
                                    clearance_, grid_colliders_, dt, collider_impulse_);
     for (int p = 0; p < numVertices(); ++p)
       if (surface_collisions_->moved(p)) control_.C[p].setZero();
-    if (last_surface_collisions_.iterations > 0) placeClamped(dt);
+    if (pushed.iterations > 0) placeClamped(dt);
   }
   tbb::parallel_for(0, contact_.size(), [&](int p) {
     contact_.p.x[p] = contact_.stencil.position(p, control_.x);  // (5.54)

@@ -74,32 +74,32 @@ SurfaceCollisionResult SurfaceCollisions::apply(
     if (c.gap > d) return;
     check[s] = c.second_gap > d ? c.collider : -1;
   });
-  candidates_.clear();
+  std::vector<int> candidates;
   for (int s = 0; s < size(); ++s)
-    if (check[s] != -2) candidates_.push_back(s);
-  const int nc = static_cast<int>(candidates_.size());
-  result.samples_checked = nc;
+    if (check[s] != -2) candidates.push_back(s);
+  const int nc = static_cast<int>(candidates.size());
   if (nc == 0) return result;
   std::vector<Vec3> start(nc);
-  tbb::parallel_for(0, nc, [&](int c) { start[c] = position(candidates_[c], x_start); });
+  tbb::parallel_for(0, nc, [&](int c) { start[c] = position(candidates[c], x_start); });
 
-  sample_request_.assign(nc, Vec3::Zero());
-  sample_velocity_request_.assign(nc, Vec3::Zero());
-  request_collider_.assign(nc, -1);
-  request_.assign(n, Vec3::Zero());
-  velocity_request_.assign(n, Vec3::Zero());
-  velocity_shift_.assign(n, Vec3::Zero());
-  request_weight_.assign(n, 0.0);
-  request_strength_.assign(n, 0.0);
-  std::vector<int> point_collider(n, -1);
+  // Per candidate: its depth, its push, the part of the push that undoes the step's approach and
+  // slide (that part changes the velocity), and the collider it is in.
   std::vector<double> depth(nc, 0.0);
+  std::vector<Vec3> sample_request(nc), sample_velocity_request(nc);
+  std::vector<int> request_collider(nc, -1);
+  // Per point: the pass's requests summed with their weights, the moves' velocity parts, and the
+  // collider of its strongest request, which takes the point's momentum change.
+  std::vector<Vec3> request(n, Vec3::Zero()), velocity_request(n, Vec3::Zero()),
+      velocity_shift(n, Vec3::Zero());
+  std::vector<double> request_weight(n, 0.0), request_strength(n, 0.0);
+  std::vector<int> point_collider(n, -1);
   for (int pass = 0;; ++pass) {
     // Each candidate's push: out of its deepest collider, less the friction on its slide.
     tbb::parallel_for(0, nc, [&](int c) {
-      const int s = candidates_[c];
+      const int s = candidates[c];
       const Vec3 xs = position(s, x);
       depth[c] = 0.0;
-      request_collider_[c] = -1;
+      request_collider[c] = -1;
       SurfaceProjection deepest;
       const int only = check[s];
       for (int k = (only >= 0 ? only : 0);
@@ -108,11 +108,11 @@ SurfaceCollisionResult SurfaceCollisions::apply(
         if (-pr.gap > depth[c]) {
           depth[c] = -pr.gap;
           deepest = pr;
-          request_collider_[c] = k;
+          request_collider[c] = k;
         }
       }
-      if (request_collider_[c] < 0) return;
-      const GridCollider& gc = colliders[request_collider_[c]];
+      if (request_collider[c] < 0) return;
+      const GridCollider& gc = colliders[request_collider[c]];
       const Vec3& nrm = deepest.normal;
       // The sample's motion over the step relative to the collider's surface: the depth it
       // moved in during the step is undone with its velocity, any depth it started with by
@@ -123,10 +123,10 @@ SurfaceCollisionResult SurfaceCollisions::apply(
       const double t_norm = tangential.norm();
       double cut = gc.boundary == ColliderBoundary::kSticky ? t_norm : gc.friction * depth[c];
       cut = std::min(cut, t_norm);
-      Vec3& dv = sample_velocity_request_[c];
+      Vec3& dv = sample_velocity_request[c];
       dv = std::min(depth[c], approach) * nrm;
       if (t_norm > 0.0) dv -= (cut / t_norm) * tangential;
-      sample_request_[c] = dv + std::max(0.0, depth[c] - approach) * nrm;
+      sample_request[c] = dv + std::max(0.0, depth[c] - approach) * nrm;
     });
     double deepest = 0.0;
     int inside = 0;
@@ -142,7 +142,7 @@ SurfaceCollisionResult SurfaceCollisions::apply(
     // The least move of each sample's movable points, averaged where they overlap.
     for (int c = 0; c < nc; ++c) {
       if (depth[c] <= 0.0) continue;
-      const int s = candidates_[c];
+      const int s = candidates[c];
       double measure = 0.0, share = 0.0;
       for (int t = begin_[s]; t < begin_[s + 1]; ++t)
         if (movable[terms_[t].point]) {
@@ -157,25 +157,25 @@ SurfaceCollisionResult SurfaceCollisions::apply(
         if (!movable[k]) continue;
         const double w = std::abs(terms_[t].w);
         const double a = w * terms_[t].w / measure;
-        request_[k] += a * sample_request_[c];
-        velocity_request_[k] += a * sample_velocity_request_[c];
-        request_weight_[k] += w;
-        const double strength = w * sample_request_[c].norm();
-        if (strength > request_strength_[k]) {
-          request_strength_[k] = strength;
-          point_collider[k] = request_collider_[c];
+        request[k] += a * sample_request[c];
+        velocity_request[k] += a * sample_velocity_request[c];
+        request_weight[k] += w;
+        const double strength = w * sample_request[c].norm();
+        if (strength > request_strength[k]) {
+          request_strength[k] = strength;
+          point_collider[k] = request_collider[c];
         }
       }
     }
     for (int k = 0; k < n; ++k) {
-      if (request_weight_[k] <= 0.0) continue;
-      const Vec3 dx = request_[k] / request_weight_[k];
+      if (request_weight[k] <= 0.0) continue;
+      const Vec3 dx = request[k] / request_weight[k];
       x[k] += dx;
       shift_[k] += dx;
-      velocity_shift_[k] += velocity_request_[k] / request_weight_[k];
-      request_[k].setZero();
-      velocity_request_[k].setZero();
-      request_weight_[k] = 0.0;
+      velocity_shift[k] += velocity_request[k] / request_weight[k];
+      request[k].setZero();
+      velocity_request[k].setZero();
+      request_weight[k] = 0.0;
     }
   }
 
@@ -184,7 +184,7 @@ SurfaceCollisionResult SurfaceCollisions::apply(
   impulses.resize(colliders.size());
   for (int k = 0; k < n; ++k) {
     if (point_collider[k] < 0) continue;
-    const Vec3 dv = velocity_shift_[k] / dt;
+    const Vec3 dv = velocity_shift[k] / dt;
     v[k] += dv;
     impulses[point_collider[k]].add(x[k], mass[k] * dv);
   }

@@ -246,10 +246,6 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   const NewtonKrylovResult& lastImplicitSolve() const { return last_solve_; }
   // The Lagrangian implicit step's elastic solve of the last step.
   const ImplicitElasticityResult& lastElasticSolve() const { return last_elastic_; }
-  // The last step's pass keeping the limit surface out of the obstacles.
-  const mpm::SurfaceCollisionResult& lastSurfaceCollisions() const {
-    return last_surface_collisions_;
-  }
   int implicitFallbacks() const { return implicit_fallbacks_; }
   const LimitSurface& limitSurface() const { return *surface_; }
   // Points of the limit surface now (the display samples), for audits.
@@ -329,7 +325,6 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   std::vector<Eigen::Vector3d> surface_start_;
   std::vector<char> movable_;
   std::vector<mpm::Clearance> clearance_;
-  mpm::SurfaceCollisionResult last_surface_collisions_;
 
   mpm::SparseGrid grid_;
   // The contact particles' mass-supported weight gradients, from transferToGrid to

@@ -16,10 +16,9 @@ struct Clearance {
 };
 
 struct SurfaceCollisionResult {
-  int samples_checked = 0;  // samples near enough a collider to be projected
-  int samples_inside = 0;   // of those, found inside at the first pass
-  int iterations = 0;       // Jacobi passes
-  double deepest = 0.0;     // [m] depth of the deepest sample left inside (0: none)
+  int samples_inside = 0;  // found inside at the first pass
+  int iterations = 0;      // Jacobi passes
+  double deepest = 0.0;    // [m] depth of the deepest sample left inside (0: none)
 };
 
 // Keeps a subdivision shell's limit surface, not only its control net, out of the colliders.
@@ -73,15 +72,8 @@ class SurfaceCollisions {
   };
   std::vector<int> begin_{0};
   std::vector<Term> terms_;
-  std::vector<int> heaviest_;  // per sample, the point of its largest weight
-  // Scratch of apply.
-  std::vector<int> candidates_;
-  std::vector<Eigen::Vector3d> shift_, request_, sample_request_;
-  // The parts of those that undo the step's approach and slide (they change the velocity).
-  std::vector<Eigen::Vector3d> velocity_shift_, velocity_request_, sample_velocity_request_;
-  std::vector<double> request_weight_;
-  std::vector<int> request_collider_;
-  std::vector<double> request_strength_;
+  std::vector<int> heaviest_;           // per sample, the point of its largest weight
+  std::vector<Eigen::Vector3d> shift_;  // per point, the last apply's move
 };
 
 // The clearance of point x from the colliders.
