@@ -21,6 +21,7 @@
 #include <Eigen/SparseLU>
 #include <Eigen/UmfPackSupport>
 
+#include "cloth_hair_sim/core/common/blas_threads.h"
 #include "cloth_hair_sim/core/fem_shell/fem_shell_solver.h"
 #include "cloth_hair_sim/core/fem_shell/shell_model.h"
 #include "cloth_hair_sim/core/io/scene.h"
@@ -210,6 +211,7 @@ void BM_TableclothSymmetric(benchmark::State& state) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> f;
     timeFactorisation(state, f, S, t.R);
   } else {
+    const chs::InlineOpenMpRegions serial;
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> f;
     timeFactorisation(state, f, S, t.R);
   }

@@ -186,6 +186,7 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
   for (std::size_t i = 0; i < nv; ++i) a[value_index_[i]] = values[i];
   const auto assembled = std::chrono::steady_clock::now();
   result.assembly_seconds += std::chrono::duration<double>(assembled - start).count();
+  const InlineOpenMpRegions serial;
   if (!factor_->analyzed) {
     factor_->llt.analyzePattern(matrix_);
     factor_->analyzed = true;
@@ -194,7 +195,6 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
   // factorised in 15 ms instead of 22-26, but its worker then spun in sched_yield through the
   // TBB stages that followed, a third of a core in the node's demo (perf), and whole runs were
   // slower (docs/BENCHMARKS.md, 2026-12-06).
-  keepCholmodTeamsSmall();
   factor_->llt.factorize(matrix_);
   factored_ = factor_->llt.info() == Eigen::Success;
   result.factorization_seconds +=

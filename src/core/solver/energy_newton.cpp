@@ -35,12 +35,12 @@ class ModifiedHessian {
     // the 50 x 50 on the disc drape with the lower, 4.2 % with the upper).
     H_ = K;
     diag_ = H_.diagonal();
+    const InlineOpenMpRegions serial;
     if (!analyzed_) {
       llt_.analyzePattern(H_);
       analyzed_ = true;
     }
     mu_ = mu_ < 10.0 * kMinShift ? 0.0 : 0.1 * mu_;
-    keepCholmodTeamsSmall();
     for (;;) {
       H_.diagonal() = diag_ + mu_ * diag_.cwiseAbs();
       llt_.factorize(H_);
