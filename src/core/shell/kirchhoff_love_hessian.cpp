@@ -98,8 +98,32 @@ void addUpperProduct(FibreHessian& H, const Rows& X, const Rows& Y) {
 // F(n, m_1, m_2) = u . a_3 + v_alpha . a_{3,alpha} (u, v_alpha the adjoints of a_3, a_{3,alpha};
 // F is linear in m), the curvature part is dchi^T F_chichi dchi + dF/dchi . d^2 chi / ds^2,
 // chi = (n, m_1, m_2).
+namespace {
+
+// The Hessian in the sums (below), or with gauss_newton its material part alone with the
+// lamina's stress S and tangent psi_cc clamped to positive semidefinite: positive semidefinite
+// by construction (a sum of B^T D B with D >= 0).
+FibreHessian fibreHessianIn(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
+                            const HenckyLamina& material, const StencilSums& s, bool gauss_newton);
+
+template <int N>
+Eigen::Matrix<double, N, N> positivePart(const Eigen::Matrix<double, N, N>& A) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(A);
+  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+         eig.eigenvectors().transpose();
+}
+
+}  // namespace
+
 FibreHessian fibreHessian(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
                           const HenckyLamina& material, const StencilSums& s) {
+  return fibreHessianIn(points, fibre, material, s, false);
+}
+
+namespace {
+
+FibreHessian fibreHessianIn(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
+                            const HenckyLamina& material, const StencilSums& s, bool gauss_newton) {
   const MidSurfaceFrame frame = MidSurfaceFrame::fromSums(s);
   const double J = frame.area_ratio;
   const Vec3& a3 = frame.a3;
@@ -135,7 +159,11 @@ FibreHessian fibreHessian(const std::vector<KirchhoffLovePoint>& points, const F
     const Eigen::Matrix<double, 3, 2> L = frame.laminaBasis(xi3) * M;
     Mat3 psi_cc;
     const HenckyLamina::LaminaResponse r = material.laminaResponse(L.transpose() * L, &psi_cc);
-    const Eigen::Matrix2d& S = r.second_piola;
+    Eigen::Matrix2d S = r.second_piola;
+    if (gauss_newton) {
+      S = positivePart<2>(S);
+      psi_cc = positivePart<3>(psi_cc);
+    }
     const Mat3 w = V * (L * S) * M.transpose();  // dPsi_q/dg_i, as energy()
     u += w.col(2);
     v[0] += xi3 * w.col(0);
@@ -156,6 +184,10 @@ FibreHessian fibreHessian(const std::vector<KirchhoffLovePoint>& points, const F
     Y.middleRows<3>(3) = V * (S(1, 0) * dl1 + S(1, 1) * dl2);
     Y.bottomRows<3>() = (V * psi_cc).lazyProduct(X.bottomRows<3>());
     addUpperProduct(H, X, Y);
+  }
+  if (gauss_newton) {
+    H.triangularView<Eigen::StrictlyLower>() = H.transpose();
+    return H;
   }
 
   // Curvature part, dchi^T F_chichi dchi as X^T Y: F_nn, and F_{n m_alpha} = the Hessian of
@@ -185,20 +217,19 @@ FibreHessian fibreHessian(const std::vector<KirchhoffLovePoint>& points, const F
   return H;
 }
 
+}  // namespace
+
 FibreHessian projectedFibreHessian(const std::vector<KirchhoffLovePoint>& points,
                                    const FibreRange& fibre, const HenckyLamina& material,
                                    const StencilSums& s) {
   const FibreHessian H = fibreHessian(points, fibre, material, s);
   // Most fibres are already positive semidefinite (three zero modes: the sums' rigid rotation);
-  // the inertia of a pivoted LDL^T tells, ~10 times cheaper than the eigen-decomposition that
-  // the others need. Pivots below -1e-6 of the largest count as negative: the zero modes' rounding
-  // and barely indefinite fibres stay as they are.
+  // the inertia of a pivoted LDL^T tells. Pivots below -1e-6 of the largest count as negative:
+  // the zero modes' rounding and barely indefinite fibres stay as they are.
   const Eigen::LDLT<FibreHessian> ldlt(H);
   const auto& d = ldlt.vectorD();
   if (ldlt.info() == Eigen::Success && d.minCoeff() >= -1e-6 * d.cwiseAbs().maxCoeff()) return H;
-  Eigen::SelfAdjointEigenSolver<FibreHessian> eig(H);
-  const Eigen::Matrix<double, 15, 1> lambda = eig.eigenvalues().cwiseMax(0.0);
-  return eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+  return fibreHessianIn(points, fibre, material, s, true);
 }
 
 }  // namespace chs

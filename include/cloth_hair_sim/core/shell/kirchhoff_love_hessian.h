@@ -39,9 +39,15 @@ double fibreEnergy(const std::vector<KirchhoffLovePoint>& points, const FibreRan
 FibreHessian fibreHessian(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
                           const HenckyLamina& material, const StencilSums& s);
 
-// fibreHessian made positive semidefinite by clamping its negative eigenvalues to zero (as IPC and
-// HOT project per element): a compressed membrane or a bent lamina beyond its inflection has an
-// indefinite Hessian, and a Newton matrix with it need not be a descent direction.
+// fibreHessian where it is positive semidefinite; elsewhere (a compressed membrane, a bent
+// lamina beyond its inflection: a Newton matrix with it need not give a descent direction) its
+// Gauss-Newton form, the material part sum_q V dL^T (S+ (x) I + dc^T psi_cc+ dc) dL with the
+// stress and the lamina tangent clamped to their positive parts and the curvature part (the
+// normal's second derivatives weighted by the stresses) left out: positive semidefinite by
+// construction, as the strands' solve does (rod/strand_newton_solver.cpp). It replaced clamping
+// the negative eigenvalues of the 15 x 15 Hessian (as IPC and HOT project per element), whose
+// eigensolves made the assembly of the cloth resting on a sphere 1.6-1.9 x as long for the same
+// Newton iterations (docs/BENCHMARKS.md, 2026-12-07).
 FibreHessian projectedFibreHessian(const std::vector<KirchhoffLovePoint>& points,
                                    const FibreRange& fibre, const HenckyLamina& material,
                                    const StencilSums& s);
