@@ -88,7 +88,12 @@ void addUpperProduct(FibreHessian& H, const Rows& X, const Rows& Y) {
     for (int i = 0; i <= j; ++i) H(i, j) += X.col(i).dot(Y.col(j));
 }
 
-}  // namespace
+template <int N>
+Eigen::Matrix<double, N, N> positivePart(const Eigen::Matrix<double, N, N>& A) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(A);
+  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+         eig.eigenvectors().transpose();
+}
 
 // Psi = sum_q V_q psi(C_q), C_q = L_q^T L_q, L_q = [g_1 g_2 g_3] M_q (the lamina vectors l_beta
 // of F^{KL,E,tr}, (5.34)-(5.35)). Its Hessian in s has a material part and a curvature part:
@@ -98,30 +103,8 @@ void addUpperProduct(FibreHessian& H, const Rows& X, const Rows& Y) {
 // F(n, m_1, m_2) = u . a_3 + v_alpha . a_{3,alpha} (u, v_alpha the adjoints of a_3, a_{3,alpha};
 // F is linear in m), the curvature part is dchi^T F_chichi dchi + dF/dchi . d^2 chi / ds^2,
 // chi = (n, m_1, m_2).
-namespace {
-
-// The Hessian in the sums (below), or with gauss_newton its material part alone with the
-// lamina's stress S and tangent psi_cc clamped to positive semidefinite: positive semidefinite
-// by construction (a sum of B^T D B with D >= 0).
-FibreHessian fibreHessianIn(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
-                            const HenckyLamina& material, const StencilSums& s, bool gauss_newton);
-
-template <int N>
-Eigen::Matrix<double, N, N> positivePart(const Eigen::Matrix<double, N, N>& A) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(A);
-  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
-         eig.eigenvectors().transpose();
-}
-
-}  // namespace
-
-FibreHessian fibreHessian(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
-                          const HenckyLamina& material, const StencilSums& s) {
-  return fibreHessianIn(points, fibre, material, s, false);
-}
-
-namespace {
-
+// With gauss_newton: the material part alone, the lamina's stress S and tangent psi_cc clamped to
+// positive semidefinite, so positive semidefinite by construction (a sum of B^T D B, D >= 0).
 FibreHessian fibreHessianIn(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
                             const HenckyLamina& material, const StencilSums& s, bool gauss_newton) {
   const MidSurfaceFrame frame = MidSurfaceFrame::fromSums(s);
@@ -218,6 +201,11 @@ FibreHessian fibreHessianIn(const std::vector<KirchhoffLovePoint>& points, const
 }
 
 }  // namespace
+
+FibreHessian fibreHessian(const std::vector<KirchhoffLovePoint>& points, const FibreRange& fibre,
+                          const HenckyLamina& material, const StencilSums& s) {
+  return fibreHessianIn(points, fibre, material, s, false);
+}
 
 FibreHessian projectedFibreHessian(const std::vector<KirchhoffLovePoint>& points,
                                    const FibreRange& fibre, const HenckyLamina& material,

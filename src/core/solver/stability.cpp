@@ -22,7 +22,9 @@ namespace {
 class ShiftInvert {
  public:
   using Scalar = double;
-  explicit ShiftInvert(const Eigen::SparseMatrix<double>& S) : S_(S) {}
+  explicit ShiftInvert(const Eigen::SparseMatrix<double>& S) : S_(S) {
+    llt_.cholmod().print = 0;  // a failure is an answer here (not positive definite)
+  }
   Eigen::Index rows() const { return S_.rows(); }
   Eigen::Index cols() const { return S_.cols(); }
   void set_shift(double sigma) {
@@ -31,7 +33,6 @@ class ShiftInvert {
     const Eigen::SparseMatrix<double> A = S_ - sigma * I;
     {
       const InlineOpenMpRegions serial;
-      llt_.cholmod().print = 0;  // a failure is an answer here (not positive definite)
       llt_.compute(A);
     }
     definite_ = llt_.info() == Eigen::Success;
