@@ -347,6 +347,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_flag("--contact-between-layers-only", base.contact_between_layers_only,
                "lagrangian_*: the fibres' contact only where two layers meet");
+  app.add_option("--obstacle-stiffness", base.obstacle_stiffness,
+                 "lagrangian_*: the sphere's penalty in the elastic solve (0: the grid alone)")
+      ->check(CLI::NonNegativeNumber);
   CLI11_PARSE(app, argc, argv);
   std::vector<chs::TimeIntegration> hybrid;
   try {

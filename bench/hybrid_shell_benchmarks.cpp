@@ -279,7 +279,8 @@ BENCHMARK(twoSheets)
 // of the grid's contact solve, and the real-time factor dt / wall. history: the elastic solve's
 // L-BFGS pairs (0: chord iterations on the kept factor). settings: 0, those of 2026-12-02 for
 // side-by-side runs (the elastic and contact solves to 1e-5 m/s); 1, the defaults; 2, the
-// defaults with the fibres' contact between layers only.
+// defaults with the fibres' contact between layers only; 3, the defaults without the obstacles in
+// the elastic solve (obstacle_stiffness 0: the grid alone, as before 2026-12-07).
 void lagrangianStep(benchmark::State& state) {
   const bool small = state.range(0) == 2, towel = state.range(0) == 0 || small;
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
@@ -301,6 +302,7 @@ void lagrangianStep(benchmark::State& state) {
   settings.elastic_history = static_cast<int>(state.range(2));
   if (state.range(3) == 0) settings.lagrangian_tolerance = 1e-5;
   settings.contact_between_layers_only = state.range(3) == 2;
+  if (state.range(3) == 3) settings.obstacle_stiffness = 0.0;
   chs::HybridShellDynamics d(p, settings);
   double t = 0.0;
   for (int i = 0; i < state.range(1); ++i) {
@@ -343,7 +345,7 @@ void lagrangianStep(benchmark::State& state) {
   state.counters["real_time_factor"] = sim / wall;
 }
 BENCHMARK(lagrangianStep)
-    ->ArgsProduct({{0, 1, 2}, {30, 400}, {0, 8}, {0, 1, 2}})
+    ->ArgsProduct({{0, 1, 2}, {30, 400}, {0, 8}, {0, 1, 2, 3}})
     ->ArgNames({"scene", "warm_steps", "history", "settings"})
     ->Iterations(20)
     ->Unit(benchmark::kMillisecond)

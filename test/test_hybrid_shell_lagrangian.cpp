@@ -12,11 +12,13 @@
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/mesh/grid_generators.h"
 #include "cloth_hair_sim/core/mpm/bdf2.h"
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
+#include "cloth_hair_sim/core/shell/implicit_elasticity.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_hessian.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
@@ -532,6 +534,122 @@ TEST(HybridShellLagrangian, MomentaInFreeFlight) {
   EXPECT_LT(dP_layers, bound);
   EXPECT_LT(dL_layers, 0.05);
   EXPECT_EQ(most_evaluations, 1);
+}
+
+// One elastic stage of a flat sheet on a plane (tilted by theta about y) with the obstacles in
+// the solve (ObstaclePenalty), from rest at the given depth into the offset band.
+struct PlaneStep {
+  double sink;     // mean motion into the plane [m]
+  double slide;    // mean motion down the slope [m]
+  double balance;  // |M (mean motion - dt^2 g) / dt^2 - sum of the pushes| / M g
+  bool converged;
+};
+PlaneStep stepOnPlane(double theta, double mu, double depth, const ObstaclePenalty& settings,
+                      double dt) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(theta, Vec3::UnitY()).toRotationMatrix();
+  const Vec3 normal = R * Vec3::UnitZ(), downhill = R * Vec3::UnitX(), g(0.0, 0.0, -9.81);
+  QuadMesh mesh = makeRectangleMesh(0.1, 0.1, 5, 5);
+  for (Vec3& x : mesh.vertices) x = R * x;
+  const LimitSurface surface(mesh);
+  const auto points = buildKirchhoffLovePoints(
+      static_cast<int>(mesh.quads.size()),
+      [&](int f, double u, double v) { return surface.stencil(f, u, v); }, mesh.vertices, 1e-3);
+  const int n = mesh.numVertices();
+  ControlPointLinks links;
+  links.owner.resize(n);
+  for (int p = 0; p < n; ++p) links.owner[p] = p;
+  links.map.assign(n, Eigen::Matrix3d::Identity());
+  ImplicitElasticity elasticity(points, n, links);
+  std::vector<Vec3> x0 = mesh.vertices, x_hat(n), free(n, Vec3::Ones());
+  for (Vec3& x : x0) x += (settings.offset - depth) * normal;
+  for (int p = 0; p < n; ++p) x_hat[p] = x0[p] + dt * dt * g;
+  // Each point's mass the fibres' stencils give it (0.2 kg/m^2): the mass the penalty on the
+  // mid-surface spreads over the points, so that uniform motion solves the step exactly.
+  std::vector<double> mass(n, 0.0);
+  for (const KirchhoffLovePoint& q : points)
+    for (int k = 0; k < q.stencil().size(); ++k)
+      mass[q.stencil().points[k]] += 0.2 / 1e-3 * q.referenceVolume() * q.stencil().w[k];
+  ImplicitElasticitySettings s;
+  s.tolerance = 1e-10;
+  s.max_iterations = 60;
+  s.obstacles = settings;
+  s.obstacles.start = &x0;
+  s.obstacles.nearest = [&](const Vec3& x) {
+    return ObstacleQuery{0, x.dot(normal), normal, Vec3::Zero(), mu};
+  };
+  // The friction's normal force is the last solve's: a first step without the slope's pull
+  // leaves the sheet where it is (at its resting depth) and sets it.
+  std::vector<Vec3> x = x0, x_level(n);
+  for (int p = 0; p < n; ++p) x_level[p] = x0[p] + dt * dt * g.dot(normal) * normal;
+  const HenckyLamina lamina(1e6, 0.3);
+  elasticity.solve(
+      x, x_level, mass, dt, free, lamina, [](std::vector<Vec3>&) {}, s);
+  x = x0;
+  const ImplicitElasticityResult r = elasticity.solve(
+      x, x_hat, mass, dt, free, lamina, [](std::vector<Vec3>&) {}, s);
+  Vec3 motion = Vec3::Zero(), pushes = Vec3::Zero();
+  double M = 0.0;
+  for (int p = 0; p < n; ++p) {
+    motion += mass[p] * (x[p] - x0[p]);
+    M += mass[p];
+  }
+  motion /= M;
+  for (const ObstaclePush& push : elasticity.obstaclePushes()) pushes += push.force;
+  return {-motion.dot(normal), motion.dot(downhill),
+          (M * (motion - dt * dt * g) / (dt * dt) - pushes).norm() / (M * 9.81), r.converged};
+}
+
+// The obstacles inside the elastic stage against the closed forms of one backward Euler step
+// (uniform motion: the penalty's stiffness sums to (beta + beta_c) M / dt^2 over the samples, and
+// the lagged friction to mu M g cos theta once the sheet rests at its depth):
+// - from rest at the band's edge a level sheet sinks s = g dt^2 / (1 + beta + beta_c);
+// - resting at the depth g cos dt^2 / (beta + beta_c) on a slope with tan theta > mu it slides by
+//   dt^2 g (sin - mu cos) and does not sink further;
+// - with tan theta < mu it sticks: the smoothed Coulomb force mu N f1(u) of the slip u balances
+//   M g sin - M u / dt^2, a slip below eps = friction_velocity dt.
+// The pushes the obstacle reports balance the sheet's momentum change (the collider's wrench).
+TEST(HybridShellLagrangian, ObstaclesInTheElasticSolveMatchOneStepsClosedForms) {
+  ObstaclePenalty o;
+  o.offset = 1e-3;
+  o.stiffness = 10.0;
+  o.point_stiffness = 1.0;
+  o.friction_velocity = 1e-2;
+  o.rise = o.offset;
+  const double dt = 1.0 / 60.0, g = 9.81, beta = o.stiffness + o.point_stiffness;
+  const double eps = o.friction_velocity * dt, deg = M_PI / 180.0;
+
+  const PlaneStep level = stepOnPlane(0.0, 0.5, 0.0, o, dt);
+  const double sink = g * dt * dt / (1.0 + beta);
+  std::printf(
+      "[figure] obstacle penalty, level sheet from rest at the band's edge, 1/60 s: sinks %.4e m "
+      "vs g dt^2 / (1 + beta + beta_c) = %.4e m (ratio %.4f); momentum balance %.1e of M g\n",
+      level.sink, sink, level.sink / sink, level.balance);
+  EXPECT_TRUE(level.converged);
+  EXPECT_NEAR(level.sink / sink, 1.0, 1e-6);
+  EXPECT_LT(level.balance, 1e-6);
+
+  for (const double mu : {0.2, 0.5}) {
+    const double theta = 20.0 * deg, A = g * std::sin(theta), B = mu * g * std::cos(theta);
+    const double rest = g * std::cos(theta) * dt * dt / beta;
+    const PlaneStep step = stepOnPlane(theta, mu, rest, o, dt);
+    // Sliding: u = dt^2 (A - B); sticking: (B / eps^2) u^2 - (1 / dt^2 + 2 B / eps) u + A = 0.
+    const double b = 1.0 / (dt * dt) + 2.0 * B / eps;
+    const double slide =
+        A > B ? dt * dt * (A - B)
+              : (b - std::sqrt(b * b - 4.0 * A * B / (eps * eps))) / (2.0 * B / (eps * eps));
+    std::printf(
+        "[figure] obstacle friction, 20 deg slope, mu = %.1f (%s): slides %.4e m in the step vs "
+        "%.4e m (ratio %.4f; eps = %.2e m), sinks %.1e m; momentum balance %.1e of M g\n",
+        mu, A > B ? "slips" : "sticks", step.slide, slide, step.slide / slide, eps, step.sink,
+        step.balance);
+    EXPECT_TRUE(step.converged);
+    EXPECT_NEAR(step.slide / slide, 1.0, 1e-6);
+    EXPECT_LT(std::abs(step.sink), 1e-6 * rest);
+    EXPECT_LT(step.balance, 1e-6);
+    if (A < B) {
+      EXPECT_LT(step.slide, eps);
+    }
+  }
 }
 
 TEST(HybridShellLagrangian, RejectsASolid) {

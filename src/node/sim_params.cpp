@@ -54,6 +54,11 @@ void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings
            s.contact_between_layers_only);
   nh.param("max_newton_iterations", s.max_newton_iterations, s.max_newton_iterations);
   nh.param("elastic_max_iterations", s.elastic_max_iterations, s.elastic_max_iterations);
+  nh.param("obstacle_stiffness", s.obstacle_stiffness, s.obstacle_stiffness);
+  nh.param("obstacle_point_stiffness", s.obstacle_point_stiffness, s.obstacle_point_stiffness);
+  nh.param("obstacle_offset", s.obstacle_offset, s.obstacle_offset);
+  nh.param("obstacle_friction_velocity", s.obstacle_friction_velocity,
+           s.obstacle_friction_velocity);
   nh.param("max_krylov_iterations", s.max_krylov_iterations, s.max_krylov_iterations);
   if (!(s.implicit_tolerance > 0.0) || !(s.lagrangian_tolerance > 0.0) ||
       s.max_newton_iterations < 1 || s.max_krylov_iterations < 1 || s.elastic_max_iterations < 1)

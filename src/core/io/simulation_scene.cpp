@@ -399,6 +399,14 @@ void parseWorld(const YAML::Node& node, SimulationScene& scene) {
   ws.max_particles = w.integer("max_particles", ws.max_particles, 1);
   sh.lagrangian_tolerance = w.positive("lagrangian_tolerance", sh.lagrangian_tolerance);
   sh.elastic_max_iterations = w.integer("elastic_max_iterations", sh.elastic_max_iterations, 1);
+  sh.obstacle_stiffness = w.number("obstacle_stiffness", sh.obstacle_stiffness);
+  sh.obstacle_point_stiffness = w.number("obstacle_point_stiffness", sh.obstacle_point_stiffness);
+  if (sh.obstacle_stiffness < 0.0 || sh.obstacle_point_stiffness < 0.0)
+    failKey(w.key(sh.obstacle_stiffness < 0.0 ? "obstacle_stiffness" : "obstacle_point_stiffness"),
+            "must not be negative (0 leaves the obstacles to the grid)");
+  sh.obstacle_offset = w.positive("obstacle_offset", sh.obstacle_offset);
+  sh.obstacle_friction_velocity =
+      w.positive("obstacle_friction_velocity", sh.obstacle_friction_velocity);
   sh.contact_between_layers_only =
       w.boolean("contact_between_layers_only", sh.contact_between_layers_only);
   sh.display_segments = w.integer("display_segments", sh.display_segments, 1);

@@ -77,6 +77,11 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
   positive(s.max_time_step, "maximum time step");
   positive(s.implicit_tolerance, "implicit solve tolerance");
   positive(s.lagrangian_tolerance, "Lagrangian solve tolerance");
+  if (!(s.obstacle_stiffness >= 0.0 && std::isfinite(s.obstacle_stiffness) &&
+        s.obstacle_point_stiffness >= 0.0 && std::isfinite(s.obstacle_point_stiffness)))
+    throw InputError("hybrid shell: obstacle penalty stiffnesses must be >= 0 and finite");
+  positive(s.obstacle_offset, "obstacle penalty offset");
+  positive(s.obstacle_friction_velocity, "obstacle friction velocity");
   if (s.elastic_history < 0 || s.elastic_history > 64)
     throw InputError("hybrid shell: L-BFGS history of the elastic solve must lie in 0..64");
   if (s.max_newton_iterations < 1 || s.max_krylov_iterations < 1 || s.elastic_max_iterations < 1)
@@ -363,6 +368,26 @@ void HybridShellDynamics::solveElasticity(double dt) {
   es.max_iterations = settings_.elastic_max_iterations;
   es.reuse_factorization = settings_.reuse_factorization;
   es.history = settings_.elastic_history;
+  es.obstacles.stiffness = grid_colliders_.empty() ? 0.0 : settings_.obstacle_stiffness;
+  es.obstacles.point_stiffness = settings_.obstacle_point_stiffness;
+  es.obstacles.offset = settings_.obstacle_offset;
+  es.obstacles.friction_velocity = settings_.obstacle_friction_velocity;
+  es.obstacles.start = &control_.x;
+  // Twice the rest sag, and a lift of 1 cm/s for a cloth laid inside the band.
+  const double beta = settings_.obstacle_stiffness + settings_.obstacle_point_stiffness;
+  es.obstacles.rise = (beta > 0.0 ? 2.0 * gravity_.norm() * dt * dt / beta : 0.0) + 1e-2 * dt;
+  // Each obstacle where it will be at the step's end: a point x then is where x - dt v(x) is now.
+  es.obstacles.nearest = [this, dt](const Vec3& x) {
+    ObstacleQuery nearest;
+    for (std::size_t k = 0; k < grid_colliders_.size(); ++k) {
+      const mpm::GridCollider& c = grid_colliders_[k];
+      const Vec3 v = c.velocity.at(x);
+      const SurfaceProjection q = c.surface->project(x - dt * v);
+      if (nearest.obstacle < 0 || q.gap < nearest.distance)
+        nearest = {static_cast<int>(k), q.gap, q.normal, v, c.friction};
+    }
+    return nearest;
+  };
   last_elastic_ = elasticity_->solve(
       x, x_hat, inertia, dt, free, lamina_,
       [this](std::vector<Vec3>& y) { clamps_.placePositions(y); }, es);
@@ -370,8 +395,10 @@ void HybridShellDynamics::solveElasticity(double dt) {
   elastic_force_.resize(n);
   for (int p = 0; p < n; ++p) {
     lagrangian_velocity_[p] = (x[p] - control_.x[p]) / dt;
-    elastic_force_[p] = -elasticity_->elasticGradient()[p];
+    elastic_force_[p] = -elasticity_->elasticGradient()[p] - elasticity_->obstacleGradient()[p];
   }
+  for (const ObstaclePush& push : elasticity_->obstaclePushes())
+    collider_impulse_[push.obstacle].add(push.point, dt * push.force);
   control_.v = lagrangian_velocity_;
 }
 

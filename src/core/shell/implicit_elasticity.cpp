@@ -83,6 +83,16 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
   diagonal_block_.resize(n_);
   for (int p = 0; p < n_; ++p) diagonal_block_[p] = block(p, p);
 
+  double volume = 0.0;
+  fibre_share_.assign(fibres_.size(), 0.0);
+  for (std::size_t f = 0; f < fibres_.size(); ++f) {
+    for (int q = fibres_[f].first; q < fibres_[f].last; ++q)
+      fibre_share_[f] += points_[q].referenceVolume();
+    volume += fibre_share_[f];
+  }
+  for (double& share : fibre_share_) share /= volume > 0.0 ? volume : 1.0;
+  obstacle_gradient_.assign(n_, Vec3::Zero());
+
   const int nb = static_cast<int>(block_col_.size());
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(9 * static_cast<std::size_t>(nb));
@@ -103,11 +113,140 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
 
 ImplicitElasticity::~ImplicitElasticity() = default;
 
+namespace {
+
+// IPC's smoothed Coulomb magnitude (Li et al. 2020, (14)-(15)): f1(y) = 2 y / eps - y^2 / eps^2
+// below eps, 1 above, and f0 with f0' = f1, f0(eps) = eps.
+double frictionF0(double y, double eps) {
+  return y < eps ? y * y / eps - y * y * y / (3.0 * eps * eps) + eps / 3.0 : y;
+}
+double frictionF1(double y, double eps) {
+  return y < eps ? 2.0 * y / eps - y * y / (eps * eps) : 1.0;
+}
+
+}  // namespace
+
+Vec3 ImplicitElasticity::samplePoint(int i, const std::vector<Vec3>& x) const {
+  const int nf = static_cast<int>(fibres_.size());
+  return i < nf ? points_[fibres_[i].first].stencil().position(x) : x[i - nf];
+}
+
+double ImplicitElasticity::sampleStiffness(int i, const std::vector<double>& mass,
+                                           double total_mass, double dt) const {
+  const int nf = static_cast<int>(fibres_.size());
+  const ObstaclePenalty& o = *obstacles_;
+  return i < nf ? o.stiffness * fibre_share_[i] * total_mass / (dt * dt)
+                : o.point_stiffness * mass[i - nf] / (dt * dt);
+}
+
+void ImplicitElasticity::lagContacts(const std::vector<double>& mass, double dt) {
+  const int ns = static_cast<int>(fibres_.size()) + n_;
+  lagged_.assign(ns, LaggedContact());
+  if (!obstacles_ || !obstacles_->active()) return;
+  const ObstaclePenalty& o = *obstacles_;
+  for (LaggedContact& c : lagged_) c.offset = o.offset;
+  if (!o.start) return;
+  if (static_cast<int>(normal_force_.size()) != ns) normal_force_.assign(ns, 0.0);
+  double total_mass = 0.0;
+  for (double m : mass) total_mass += m;
+  tbb::parallel_for(0, ns, [&](int i) {
+    const double kappa = sampleStiffness(i, mass, total_mass, dt);
+    if (!(kappa > 0.0)) return;
+    const Vec3 start = samplePoint(i, *o.start);
+    const ObstacleQuery q = o.nearest(start);
+    if (q.obstacle < 0 || !(q.distance < o.offset)) return;
+    LaggedContact& c = lagged_[i];
+    c.offset = std::min(o.offset, q.distance + o.rise);
+    // The normal force: the last solve's, or (a sample that was not pressed then) the penalty's
+    // at the start, so that a cloth laid on a slope holds from its first step.
+    const double normal = normal_force_[i] > 0.0
+                              ? normal_force_[i]
+                              : kappa * std::clamp(c.offset - q.distance, 0.0, o.offset);
+    if (!(q.friction > 0.0) || !(normal > 0.0)) return;
+    c.obstacle = q.obstacle;
+    c.mu_lambda = q.friction * normal;
+    c.normal = q.normal;
+    c.start = start;
+    c.slide = dt * q.velocity;
+  });
+}
+
+double ImplicitElasticity::obstaclePenalty(const std::vector<Vec3>& x,
+                                           const std::vector<double>& mass, double dt) {
+  obstacle_gradient_.assign(n_, Vec3::Zero());
+  pushes_.clear();
+  if (!obstacles_ || !obstacles_->active()) return 0.0;
+  double total_mass = 0.0;
+  for (double m : mass) total_mass += m;
+  const int nf = static_cast<int>(fibres_.size()), ns = nf + n_;
+  contacts_.resize(ns);
+  contact_hessian_.resize(ns);
+  std::vector<double> energy(ns, 0.0);
+  normal_.assign(ns, 0.0);
+  const ObstaclePenalty& o = *obstacles_;
+  const double eps = o.friction_velocity * dt;
+  tbb::parallel_for(0, ns, [&](int i) {
+    ObstaclePush& c = contacts_[i];
+    Mat3& H = contact_hessian_[i];
+    c.obstacle = -1;
+    const double kappa = sampleStiffness(i, mass, total_mass, dt);
+    if (!(kappa > 0.0)) return;
+    c.point = samplePoint(i, x);
+    c.force.setZero();
+    H.setZero();
+    const LaggedContact& f = lagged_[i];
+    const ObstacleQuery q = o.nearest(c.point);
+    if (q.obstacle >= 0 && q.distance < f.offset) {
+      // Quadratic over a band of the offset's width, linear beyond (a depth left by the grid
+      // then costs a bounded push, not a kick that grows with its square).
+      const double depth = f.offset - q.distance;
+      c.obstacle = q.obstacle;
+      normal_[i] = kappa * std::min(depth, o.offset);
+      c.force = normal_[i] * q.normal;
+      if (depth <= o.offset) {
+        H = kappa * q.normal * q.normal.transpose();
+        energy[i] = 0.5 * kappa * depth * depth;
+      } else {
+        energy[i] = kappa * o.offset * (depth - 0.5 * o.offset);
+      }
+    }
+    if (f.mu_lambda > 0.0) {
+      const Mat3 T = Mat3::Identity() - f.normal * f.normal.transpose();
+      const Vec3 u = T * (c.point - f.start - f.slide);
+      const double y = u.norm();
+      energy[i] += f.mu_lambda * frictionF0(y, eps);
+      const double f1_over_y = y > 0.0 ? frictionF1(y, eps) / y : 2.0 / eps;
+      c.force -= f.mu_lambda * f1_over_y * u;
+      // IPC's matrix: f1' along the slip (zero when sliding), f1 / y across it; both >= 0.
+      const Vec3 along = y > 0.0 ? Vec3(u / y) : Vec3::Zero();
+      const double f1_prime = y < eps ? 2.0 / eps - 2.0 * y / (eps * eps) : 0.0;
+      H += f.mu_lambda *
+           (f1_prime * along * along.transpose() + f1_over_y * (T - along * along.transpose()));
+      if (c.obstacle < 0) c.obstacle = f.obstacle;
+    }
+  });
+  double total = 0.0;
+  for (int i = 0; i < ns; ++i) {
+    const ObstaclePush& c = contacts_[i];
+    if (c.obstacle < 0) continue;
+    total += energy[i];
+    if (i < nf) {
+      const SurfaceStencil& st = points_[fibres_[i].first].stencil();
+      for (int k = 0; k < st.size(); ++k) obstacle_gradient_[st.points[k]] -= st.w[k] * c.force;
+    } else {
+      obstacle_gradient_[i - nf] -= c.force;
+    }
+    pushes_.push_back(c);
+  }
+  return total;
+}
+
 double ImplicitElasticity::incrementalPotential(const std::vector<Vec3>& x,
                                                 const std::vector<Vec3>& x_hat,
                                                 const std::vector<double>& mass, double dt,
                                                 const HenckyLamina& material, bool with_gradient) {
   double phi = kirchhoffLoveEnergy(points_, material, x, with_gradient ? &gradient_ : nullptr);
+  phi += obstaclePenalty(x, mass, dt);
   for (int p = 0; p < n_; ++p) phi += 0.5 * mass[p] * (x[p] - x_hat[p]).squaredNorm() / (dt * dt);
   return phi;
 }
@@ -116,6 +255,8 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
                                   double dt, const std::vector<Vec3>& free,
                                   const HenckyLamina& material, ImplicitElasticityResult& result) {
   const auto start = std::chrono::steady_clock::now();
+  obstaclePenalty(x, mass, dt);  // the contacts at x (the last potential may be a rejected trial)
+  const bool contact = obstacles_ && obstacles_->active();
   const std::size_t nv = 9 * block_col_.size();
   tbb::enumerable_thread_specific<std::vector<double>> local(
       [nv] { return std::vector<double>(nv, 0.0); });
@@ -142,6 +283,9 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
           for (int b = 0; b < 5; ++b) B += (*c[b])[l] * T.block<3, 3>(0, 3 * b);
         }
       }
+      if (!contact || contacts_[f].obstacle < 0) continue;
+      for (int k = 0; k < S; ++k)
+        for (int l = 0; l <= k; ++l) K[k * S + l] += st.w[k] * st.w[l] * contact_hessian_[f];
     }
     std::vector<double>& v = local.local();
     const int* slot = &slot_[slot_start_[first]];
@@ -167,7 +311,10 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
   for (const auto& v : local)
     for (std::size_t i = 0; i < nv; ++i) values[i] += v[i];
   for (int p = 0; p < n_; ++p) {
-    const Mat3 M = mass[p] / (dt * dt) * links_.map[p].transpose() * links_.map[p];
+    Mat3 M = mass[p] / (dt * dt) * Mat3::Identity();
+    if (contact && contacts_[fibres_.size() + p].obstacle >= 0)
+      M += contact_hessian_[fibres_.size() + p];
+    M = links_.map[p].transpose() * M * links_.map[p];
     double* dst = &values[9 * static_cast<std::size_t>(diagonal_block_[owner[p]])];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) dst[3 * i + j] += M(i, j);
@@ -229,7 +376,8 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     g.setZero();
     g_elastic.setZero();
     for (int p = 0; p < n_; ++p) {
-      g_elastic.segment<3>(3 * owner[p]) += links_.map[p].transpose() * gradient_[p];
+      g_elastic.segment<3>(3 * owner[p]) +=
+          links_.map[p].transpose() * (gradient_[p] + obstacle_gradient_[p]);
       g.segment<3>(3 * owner[p]) +=
           links_.map[p].transpose() * (mass[p] * (x[p] - x_hat[p]) / (dt * dt));
     }
@@ -275,6 +423,8 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     return Eigen::VectorXd(-r);
   };
   ImplicitElasticityResult result;
+  obstacles_ = &s.obstacles;
+  lagContacts(mass, dt);
   double phi = incrementalPotential(x, x_hat, mass, dt, material, true);
   result.initial_residual = result.residual = foldGradient();
   // Residual reduction of the last iteration, and whether that iteration ran on a factor of an
@@ -350,6 +500,9 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     result.residual = residual;
   }
   result.converged = result.residual < s.tolerance;
+  obstaclePenalty(x, mass, dt);  // pushes_ at the returned iterate
+  normal_force_ = normal_;       // the next step's friction bound
+  obstacles_ = nullptr;
   return result;
 }
 

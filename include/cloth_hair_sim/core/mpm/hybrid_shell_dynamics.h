@@ -73,6 +73,16 @@ struct HybridShellSettings {
   // needs (the twisted tube); 1: the elastic motion's sub-cell detail is kept, but the layers'
   // own velocities pass through each other.
   double flip_blend = 0.0;
+  // The Lagrangian steps' elastic solve meets the obstacles through a penalty and lagged Coulomb
+  // friction (shell/implicit_elasticity.h, ObstaclePenalty): stiffness of the fibres' mid-surface
+  // points and of the control points (each at rest yields by g dt^2 / (sum of both), 0.25 mm at
+  // 1/60 s), acting within obstacle_offset [m] of the obstacles, the stick creeping at most
+  // obstacle_friction_velocity [m/s]. obstacle_stiffness 0 leaves the obstacles to the grid
+  // alone, as in Han. Chosen on the cloth dropped on a sphere (docs/BENCHMARKS.md, 2026-12-07).
+  double obstacle_stiffness = 10.0;
+  double obstacle_point_stiffness = 1.0;
+  double obstacle_offset = 1e-3;
+  double obstacle_friction_velocity = 1e-3;
   int max_krylov_iterations = 60;
   double krylov_tolerance = 1e-2;
   // Kirchhoff-Love quadrature (type iv): in-plane Gauss points per face edge and the rule

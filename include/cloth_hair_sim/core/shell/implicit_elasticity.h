@@ -20,6 +20,56 @@ struct ControlPointLinks {
   std::vector<Eigen::Matrix3d> map;  // identity for a point that owns itself
 };
 
+// The nearest obstacle to a point: its index (-1: none), the point's signed distance [m] from it,
+// its outward unit normal there, its velocity there and its Coulomb coefficient.
+struct ObstacleQuery {
+  int obstacle = -1;
+  double distance = 0.0;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  double friction = 0.0;
+};
+
+// Obstacles inside the elastic solve. Without them the elastic stage let a resting cloth fall
+// freely for the step and the grid stopped only the part that touched: the rest hung g dt^2 lower
+// (2.7 mm at 1/60 s), a strain the next elastic solve had to relax, so every step started far
+// from its solution (docs/BENCHMARKS.md, 2026-12-07). Samples: each fibre's mid-surface point
+// x_s = sum_k w_k x_k (the surface that rests on the obstacle) and each control point (what the
+// grid's obstacle conditions hold out: where the cloth wrinkles, the net dips below its limit
+// surface, and those points fell into the obstacle in every elastic stage for the grid to stop).
+// Penalty E_s = kappa_s p^2 / 2 on the depth p = offset - d(x_s) > 0 (d: signed distance),
+// linear beyond p = offset (a depth the grid left costs a bounded push, not a kick), with
+// kappa_s = stiffness m_s / dt^2: m_s is a fibre's share of the shell's mass (point_stiffness and
+// its own mass for a control point), so a resting sheet sinks g dt^2 / (stiffness +
+// point_stiffness) into the band. Friction: IPC's lagged smoothed Coulomb potential (Li et al.
+// 2020, section 5), D_s = mu lambda f0(|u|) with lambda and n the penalty's force and normal at
+// the step's start, u = (I - n n^T)(x_s - x_s^n - dt v_obstacle) the slip over the step, f0
+// quadratic-cubic below eps = friction_velocity dt (a stick that creeps at most that fast),
+// linear above. The grid's obstacle conditions act after it, as before. Hessians: kappa_s n n^T
+// and IPC's semidefinite friction matrix, spread over the stencil (the surface's curvature term,
+// negative semidefinite on convex obstacles, is left out: the matrix stays SPD).
+struct ObstaclePenalty {
+  // Where each obstacle will be at the step's end. Called from several threads at once.
+  std::function<ObstacleQuery(const Eigen::Vector3d& x)> nearest;
+  const std::vector<Eigen::Vector3d>* start = nullptr;  // control points at the step's start
+  double offset = 0.0;                                  // [m]
+  double stiffness = 0.0;           // fibres' (dimensionless); 0 switches the obstacles off here
+  double point_stiffness = 0.0;     // control points'
+  double friction_velocity = 1e-3;  // [m/s]
+  // [m] the most a sample that starts inside the band is lifted towards the offset in a step
+  // (then a cloth laid on the surface is raised into the band gently, not kicked); at least
+  // twice the rest sag, or a resting sheet would creep down.
+  double rise = 0.0;
+  bool active() const { return nearest && stiffness > 0.0; }
+};
+
+// The obstacles' push (normal and friction) on one sample at the returned iterate.
+struct ObstaclePush {
+  int obstacle = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // on the shell [N]; the obstacle takes -force
+};
+
 struct ImplicitElasticitySettings {
   // Stop when the mass-weighted RMS of the velocity residual, sqrt(sum |r_i|^2 / m_i / sum m_i)
   // with r = m (v - v~) - dt f, is below this [m/s] (the grid backward Euler's measure).
@@ -32,6 +82,7 @@ struct ImplicitElasticitySettings {
   double refresh_ratio = 0.5;
   // Curvature pairs of L-BFGS kept on top of a kept factorisation (0: plain chord iterations).
   int history = 8;
+  ObstaclePenalty obstacles;
 };
 
 struct ImplicitElasticityResult {
@@ -77,6 +128,10 @@ class ImplicitElasticity {
 
   // dPsi^KL/dx_p at the returned iterate, per point (not folded): the elastic force is -this.
   const std::vector<Eigen::Vector3d>& elasticGradient() const { return gradient_; }
+  // The obstacle penalty's gradient per point (zero without obstacles: the force is -this), and
+  // its pushes on the fibres in contact, at the returned iterate.
+  const std::vector<Eigen::Vector3d>& obstacleGradient() const { return obstacle_gradient_; }
+  const std::vector<ObstaclePush>& obstaclePushes() const { return pushes_; }
   // Forget the factorisation (the material or plastic state changed).
   void invalidate() {
     factored_ = false;
@@ -85,6 +140,17 @@ class ImplicitElasticity {
   }
 
  private:
+  // Obstacle sample i (fibres' mid-surface points, then control points): where it is at x, and
+  // its penalty stiffness kappa_i.
+  Eigen::Vector3d samplePoint(int i, const std::vector<Eigen::Vector3d>& x) const;
+  double sampleStiffness(int i, const std::vector<double>& mass, double total_mass,
+                         double dt) const;
+  // What settings.obstacles takes from the step's start (lagged_).
+  void lagContacts(const std::vector<double>& mass, double dt);
+  // The obstacles' potential at x: its energy, obstacle_gradient_ and pushes_ (samples in
+  // contact), with each sample's Hessian in contact_hessian_.
+  double obstaclePenalty(const std::vector<Eigen::Vector3d>& x, const std::vector<double>& mass,
+                         double dt);
   double incrementalPotential(const std::vector<Eigen::Vector3d>& x,
                               const std::vector<Eigen::Vector3d>& x_hat,
                               const std::vector<double>& mass, double dt,
@@ -116,6 +182,23 @@ class ImplicitElasticity {
   // elastic gradient's change over them (held components zero).
   std::vector<Eigen::VectorXd> pair_s_, pair_y_;
   std::vector<Eigen::Vector3d> gradient_, folded_;
+  // Per fibre: its share of the shell's volume (of the mass). Per sample (fibres, then control
+  // points): the push on it (obstacle -1: none) with its Hessian and its normal part, the normal
+  // part at the last solve's end, and what the solve takes from the step's start: the penalty's
+  // offset for the sample, and its friction.
+  std::vector<double> fibre_share_;
+  struct LaggedContact {
+    double offset = 0.0;
+    int obstacle = -1;
+    double mu_lambda = 0.0;                // 0: no friction
+    Eigen::Vector3d normal, start, slide;  // slide: the obstacle's motion over the step
+  };
+  std::vector<LaggedContact> lagged_;
+  std::vector<double> normal_, normal_force_;
+  const ObstaclePenalty* obstacles_ = nullptr;  // during solve()
+  std::vector<ObstaclePush> contacts_, pushes_;
+  std::vector<Eigen::Matrix3d> contact_hessian_;
+  std::vector<Eigen::Vector3d> obstacle_gradient_;
 };
 
 }  // namespace chs
