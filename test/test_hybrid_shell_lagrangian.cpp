@@ -613,7 +613,6 @@ TEST(HybridShellLagrangian, ObstaclesInTheElasticSolveMatchOneStepsClosedForms) 
   o.offset = 1e-3;
   o.stiffness = 10.0;
   o.point_stiffness = 1.0;
-  o.friction_velocity = 1e-2;
   o.rise = o.offset;
   const double dt = 1.0 / 60.0, g = 9.81, beta = o.stiffness + o.point_stiffness;
   const double eps = o.friction_velocity * dt, deg = M_PI / 180.0;

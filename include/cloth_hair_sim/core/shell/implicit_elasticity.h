@@ -42,8 +42,9 @@ struct ObstacleQuery {
 // kappa_s = stiffness m_s / dt^2: m_s is a fibre's share of the shell's mass (point_stiffness and
 // its own mass for a control point), so a resting sheet sinks g dt^2 / (stiffness +
 // point_stiffness) into the band. Friction: IPC's lagged smoothed Coulomb potential (Li et al.
-// 2020, section 5), D_s = mu lambda f0(|u|) with lambda and n the penalty's force and normal at
-// the step's start, u = (I - n n^T)(x_s - x_s^n - dt v_obstacle) the slip over the step, f0
+// 2020, section 5), D_s = mu lambda f0(|u|) with lambda the penalty's normal force at the last
+// solve's end (at the step's start for a sample not pressed then), n the normal at the step's
+// start, u = (I - n n^T)(x_s - x_s^n - dt v_obstacle) the slip over the step, f0
 // quadratic-cubic below eps = friction_velocity dt (a stick that creeps at most that fast),
 // linear above. The grid's obstacle conditions act after it, as before. Hessians: kappa_s n n^T
 // and IPC's semidefinite friction matrix, spread over the stencil (the surface's curvature term,
