@@ -175,6 +175,7 @@ double ImplicitElasticity::obstaclePenalty(const std::vector<Vec3>& x,
                                            const std::vector<double>& mass, double dt) {
   obstacle_gradient_.assign(n_, Vec3::Zero());
   pushes_.clear();
+  normal_.clear();
   if (!obstacles_ || !obstacles_->active()) return 0.0;
   double total_mass = 0.0;
   for (double m : mass) total_mass += m;

@@ -133,11 +133,13 @@ class ImplicitElasticity {
   // its pushes on the fibres in contact, at the returned iterate.
   const std::vector<Eigen::Vector3d>& obstacleGradient() const { return obstacle_gradient_; }
   const std::vector<ObstaclePush>& obstaclePushes() const { return pushes_; }
-  // Forget the factorisation (the material or plastic state changed).
+  // Forget the factorisation and the contacts' normal forces (the material, the plastic state or
+  // the positions changed).
   void invalidate() {
     factored_ = false;
     pair_s_.clear();
     pair_y_.clear();
+    normal_force_.clear();
   }
 
  private:
