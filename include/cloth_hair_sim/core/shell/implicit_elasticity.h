@@ -130,7 +130,8 @@ class ImplicitElasticity {
   // dPsi^KL/dx_p at the returned iterate, per point (not folded): the elastic force is -this.
   const std::vector<Eigen::Vector3d>& elasticGradient() const { return gradient_; }
   // The obstacle penalty's gradient per point (zero without obstacles: the force is -this), and
-  // its pushes on the fibres in contact, at the returned iterate.
+  // its pushes on the samples in contact (fibres' mid-surface points, control points), at the
+  // returned iterate.
   const std::vector<Eigen::Vector3d>& obstacleGradient() const { return obstacle_gradient_; }
   const std::vector<ObstaclePush>& obstaclePushes() const { return pushes_; }
   // Forget the factorisation and the contacts' normal forces (the material, the plastic state or
