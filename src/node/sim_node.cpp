@@ -897,9 +897,13 @@ bool SimNode::removeGarment(cloth_hair_sim::RemoveGarment::Request& req,
       c.kinds.erase(c.kinds.begin() + i);
       pending_edits_.push_back({req.name, std::nullopt});
     }
+    std::vector<std::string> grasps;
+    for (const auto& [grasp, garment] : grasped_garments_)
+      if (garment == req.name) grasps.push_back(grasp);
     res.message = who + (res.success ? "removed (leaves the stepping world at its next substep, "
                                        "its grasps with it)"
                                      : "not loaded");
+    if (res.success && !grasps.empty()) res.message += "; grasps released: " + joined(grasps);
     return true;
   }
   applyPendingEdits();
@@ -948,8 +952,11 @@ void SimNode::refreshCatalogue() {
     list.materials.push_back(g.material_name);
     list.kinds.push_back("garment");
   }
+  std::vector<std::pair<std::string, std::string>> grasped;
+  for (const auto& [name, grasp] : grasps_) grasped.emplace_back(name, grasp.garment);
   std::lock_guard<std::mutex> lock(catalogue_mutex_);
   catalogue_ = std::move(list);
+  grasped_garments_ = std::move(grasped);
 }
 
 bool SimNode::nameTaken(const std::string& name) {
@@ -1013,6 +1020,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
   rollbacks_ = 0;
   unconverged_solves_ = 0;
   last_ = UpdateStats();
+  refreshCatalogue();  // the grasps it released
   res.success = true;
   res.message = "reset " + std::to_string(garments_.size()) + " garments to their reference and " +
                 std::to_string(hairs_.size()) + " hair to rest";
@@ -1218,6 +1226,7 @@ bool SimNode::grasp(cloth_hair_sim::GraspGarment::Request& req,
       res.message = who + std::to_string(held.size()) + " vertices of '" + req.garment +
                     "' held by frame '" + req.frame_id + "'; wrench on " + g.wrench_pub.getTopic();
       grasps_.emplace(req.name, std::move(g));
+      refreshCatalogue();
     }
   }
   if (res.success)
@@ -1258,6 +1267,7 @@ bool SimNode::release(cloth_hair_sim::ReleaseGrasp::Request& req,
                 std::to_string(it->second.attachment.vertices.size()) + " vertices of '" +
                 it->second.garment + "'";
   grasps_.erase(it);
+  refreshCatalogue();
   ROS_INFO("%s", res.message.c_str());
   return true;
 }

@@ -203,6 +203,9 @@ class SimNode {
   // while the world steps.
   std::mutex catalogue_mutex_;
   cloth_hair_sim::ListGarments::Response catalogue_;
+  // The garment grasps' names and garments, under catalogue_mutex_, refreshed with the list: a
+  // removal answered while the world steps names the grasps that leave with the garment.
+  std::vector<std::pair<std::string, std::string>> grasped_garments_;
   SimParams load_params_;
   // The world's particles as of the last refresh (under pending_mutex_): a load queued while
   // the world steps is checked against ~mpm/max_particles with it and the queue's.
