@@ -1011,6 +1011,7 @@ bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& re
     world_ = worldOf(garments_);
   } catch (const std::exception& e) {
     world_ = worldOf(garments_);  // the garments reset before the failure, with the others
+    refreshCatalogue();           // the grasps released before it
     res.success = false;
     res.message = e.what();
     return true;
