@@ -156,7 +156,12 @@ void ImplicitElasticity::lagContacts(const std::vector<double>& mass, double dt)
     const ObstacleQuery q = o.nearest(start);
     if (q.obstacle < 0 || !(q.distance < o.offset)) return;
     LaggedContact& c = lagged_[i];
-    c.offset = std::min(o.offset, q.distance + o.rise);
+    // A sample that carried a load at the last solve's end sat its sag lambda / kappa below its
+    // target: the rise is counted from there, so that a sample carrying more than its own weight
+    // (under a fold, over the sphere's rim) still rises into the band instead of sinking a little
+    // deeper each step for the grid's stages to push back out (docs/BENCHMARKS.md, 2026-12-07).
+    const double sag = normal_force_[i] > 0.0 ? normal_force_[i] / kappa : 0.0;
+    c.offset = std::min(o.offset, q.distance + o.rise + sag);
     // The normal force: the last solve's, or (a sample that was not pressed then) the penalty's
     // at the start, so that a cloth laid on a slope holds from its first step.
     const double normal = normal_force_[i] > 0.0

@@ -58,8 +58,9 @@ struct ObstaclePenalty {
   double point_stiffness = 0.0;     // control points'
   double friction_velocity = 1e-3;  // [m/s]
   // [m] the most a sample that starts inside the band is lifted towards the offset in a step
-  // (then a cloth laid on the surface is raised into the band gently, not kicked); at least
-  // twice the rest sag, or a resting sheet would creep down.
+  // (then a cloth laid on the surface is raised into the band gently, not kicked), counted from
+  // the sag its load gave it at the last solve's end (normal force / kappa); at least twice the
+  // rest sag, or a resting sheet would creep down.
   double rise = 0.0;
   bool active() const { return nearest && stiffness > 0.0; }
 };
