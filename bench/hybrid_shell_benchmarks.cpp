@@ -276,7 +276,8 @@ BENCHMARK(twoSheets)
 // one garment of the node's 20-garment row (16 x 16 cm, 8 x 8 cells, as scene 0 otherwise). Each
 // iteration is one step, from `warm_steps` steps into the run; counters are per step: stage and
 // solver times [ms], Newton iterations and factorisations of the elastic solve, force evaluations
-// of the grid's contact solve, and the real-time factor dt / wall. history: the elastic solve's
+// of the grid's contact solve, the real-time factor dt / wall, and (deep_mm) the limit surface's
+// deepest penetration of a collider at the end. history: the elastic solve's
 // L-BFGS pairs (0: chord iterations on the kept factor). settings: 0, those of 2026-12-02 for
 // side-by-side runs (the elastic and contact solves to 1e-5 m/s); 1, the defaults; 2, the
 // defaults with the fibres' contact between layers only; 3, the defaults without the obstacles in
@@ -343,6 +344,7 @@ void lagrangianStep(benchmark::State& state) {
                       (t0.elastic_solve + t0.transfer_to_grid + t0.grid_update +
                        t0.transfer_to_particles + t0.plasticity);
   state.counters["real_time_factor"] = sim / wall;
+  state.counters["deep_mm"] = 1e3 * d.deepestPenetration();
 }
 BENCHMARK(lagrangianStep)
     ->ArgsProduct({{0, 1, 2}, {30, 400}, {0, 8}, {0, 1, 2, 3}})
