@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -707,6 +708,40 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
           mass.segment<3>(3 * k).cwiseProduct(u.segment<3>(3 * k) - v_free.segment<3>(3 * k)) -
           dt * grid_.force[node[k]];
   };
+  if (contact_only && !last_contact_change_.empty()) {
+    // Start from the last solution's change where it lowers the residual (during fast motion the
+    // old change can be the wrong one): one residual evaluation each.
+    // The change less its rigid part (the mass-weighted least-squares a + w x (x - c)): the
+    // contact forces are internal, and each Newton-Krylov update from a start of zero momentum
+    // keeps both momenta (docs/VALIDATION.md); an old change of nodes that moved would not.
+    std::vector<Vec3> change(n, Vec3::Zero()), at(n);
+    Vec3 centre = Vec3::Zero(), momentum = Vec3::Zero(), moment = Vec3::Zero();
+    for (int k = 0; k < n; ++k) {
+      const int j = last_contact_nodes_.find(grid_.coordinate(node[k]));
+      if (j >= 0) change[k] = last_contact_change_[j];
+      at[k] = grid_.position(node[k]);
+      centre += grid_.mass[node[k]] * at[k];
+    }
+    centre /= total_mass;
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+    for (int k = 0; k < n; ++k) {
+      const double m = grid_.mass[node[k]];
+      const Vec3 r = at[k] - centre;
+      momentum += m * change[k];
+      moment += m * r.cross(change[k]);
+      inertia += m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+    }
+    const Vec3 a = momentum / total_mass;
+    const Eigen::LDLT<Eigen::Matrix3d> inertia_ldlt(inertia);
+    const Vec3 w =
+        inertia_ldlt.info() == Eigen::Success ? Vec3(inertia_ldlt.solve(moment)) : Vec3::Zero();
+    Eigen::VectorXd warm = v_free, r_free, r_warm;
+    for (int k = 0; k < n; ++k) warm.segment<3>(3 * k) += change[k] - a - w.cross(at[k] - centre);
+    residual(v_free, r_free);
+    residual(warm, r_warm);
+    const auto norm = [&](const Eigen::VectorXd& r) { return r.cwiseQuotient(mass).dot(r); };
+    if (norm(r_warm) < norm(r_free)) v = warm;
+  }
   NewtonKrylovSettings ns;
   ns.tolerance = (contact_only ? settings_.lagrangian_tolerance : settings_.implicit_tolerance) *
                  std::sqrt(total_mass);
@@ -727,7 +762,14 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
     grid_.velocity[i] = node_velocity[i];
     grid_.momentum[i] = grid_.mass[i] * node_velocity[i];
   }
-  if (contact_only) fibre_field_velocity_ = node_velocity;
+  if (contact_only) {
+    fibre_field_velocity_ = node_velocity;
+    last_contact_nodes_.clear();
+    last_contact_change_.resize(n);
+    for (int k = 0; k < n; ++k)
+      last_contact_change_[last_contact_nodes_.activate(grid_.coordinate(node[k]))] =
+          v.segment<3>(3 * k) - v_free.segment<3>(3 * k);
+  }
   mpm::applyGridColliders(grid_, grid_colliders_, &collider_impulse_);
 }
 

@@ -352,6 +352,11 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   // The Lagrangian step's fibres move with the grid's solution before the obstacles' conditions
   // (transferToParticles).
   std::vector<Eigen::Vector3d> fibre_field_velocity_;
+  // The Lagrangian step's contact solve starts from the change its last solution made at each
+  // node (where that node is active again): on a resting cloth that change is the same every step
+  // (docs/BENCHMARKS.md, 2026-12-07). Solver state, not model state: a snapshot does not keep it.
+  mpm::SparseGrid last_contact_nodes_{1.0};
+  std::vector<Eigen::Vector3d> last_contact_change_;
   // kLagrangianBdf2: each control point's position and velocity one step before the step's
   // start, whether it has them (else backward Euler), the length of that step; and this step's
   // start and the coefficients each point took.
