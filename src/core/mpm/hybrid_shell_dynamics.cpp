@@ -709,11 +709,11 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
           dt * grid_.force[node[k]];
   };
   if (contact_only && !last_contact_change_.empty()) {
-    // Start from the last solution's change where it lowers the residual (during fast motion the
-    // old change can be the wrong one): one residual evaluation each.
-    // The change less its rigid part (the mass-weighted least-squares a + w x (x - c)): the
-    // contact forces are internal, and each Newton-Krylov update from a start of zero momentum
-    // keeps both momenta (docs/VALIDATION.md); an old change of nodes that moved would not.
+    // Warm start: the last solution's change at the nodes active again, less its rigid part
+    // (the mass-weighted least-squares a + w x (x - c)). The contact forces are internal, so each
+    // Newton-Krylov update from a start of zero momentum keeps both momenta (docs/VALIDATION.md);
+    // an old change at nodes that moved would not. Taken only where it lowers the residual:
+    // during fast motion the old change can be the wrong one (two evaluations).
     std::vector<Vec3> change(n, Vec3::Zero()), at(n);
     Vec3 centre = Vec3::Zero(), momentum = Vec3::Zero(), moment = Vec3::Zero();
     for (int k = 0; k < n; ++k) {
