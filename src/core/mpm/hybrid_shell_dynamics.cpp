@@ -7,7 +7,6 @@
 #include <string>
 #include <utility>
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -15,6 +14,7 @@
 
 #include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/common/rigid_velocity.h"
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 #include "cloth_hair_sim/core/mpm/bdf2.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
@@ -714,29 +714,19 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
     // Newton-Krylov update from a start of zero momentum keeps both momenta (docs/VALIDATION.md);
     // an old change at nodes that moved would not. Taken only where it lowers the residual:
     // during fast motion the old change can be the wrong one (two evaluations).
-    std::vector<Vec3> change(n, Vec3::Zero()), at(n);
-    Vec3 centre = Vec3::Zero(), momentum = Vec3::Zero(), moment = Vec3::Zero();
+    std::vector<Vec3> change(n, Vec3::Zero());
     for (int k = 0; k < n; ++k) {
       const int j = last_contact_nodes_.find(grid_.coordinate(node[k]));
       if (j >= 0) change[k] = last_contact_change_[j];
-      at[k] = grid_.position(node[k]);
-      centre += grid_.mass[node[k]] * at[k];
     }
-    centre /= total_mass;
-    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
-    for (int k = 0; k < n; ++k) {
-      const double m = grid_.mass[node[k]];
-      const Vec3 r = at[k] - centre;
-      momentum += m * change[k];
-      moment += m * r.cross(change[k]);
-      inertia += m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-    }
-    const Vec3 a = momentum / total_mass;
-    const Eigen::LDLT<Eigen::Matrix3d> inertia_ldlt(inertia);
-    const Vec3 w =
-        inertia_ldlt.info() == Eigen::Success ? Vec3(inertia_ldlt.solve(moment)) : Vec3::Zero();
+    const RigidVelocity rigid = fitRigidVelocity(n, [&](int k, double& m, Vec3& x, Vec3& u) {
+      m = grid_.mass[node[k]];
+      x = grid_.position(node[k]);
+      u = change[k];
+    });
     Eigen::VectorXd warm = v_free, r_free, r_warm;
-    for (int k = 0; k < n; ++k) warm.segment<3>(3 * k) += change[k] - a - w.cross(at[k] - centre);
+    for (int k = 0; k < n; ++k)
+      warm.segment<3>(3 * k) += change[k] - rigid.at(grid_.position(node[k]));
     residual(v_free, r_free);
     residual(warm, r_warm);
     const auto norm = [&](const Eigen::VectorXd& r) { return r.cwiseQuotient(mass).dot(r); };

@@ -15,6 +15,7 @@
 #include <Eigen/Dense>
 
 #include "cloth_hair_sim/core/common/input_error.h"
+#include "cloth_hair_sim/core/common/rigid_velocity.h"
 
 namespace chs::rod {
 namespace {
@@ -667,18 +668,11 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
         for (std::size_t k = b; k < e; ++k) dirty_[members[k].second] = 1;
         Vec3 held_v = Vec3::Zero();
         int held = 0;
-        double mass = 0.0;
-        Vec3 xc = Vec3::Zero(), vc = Vec3::Zero();
         for (std::size_t k = b; k < e; ++k) {
           const int i = members[k].second;
           if (inverse_mass[i] == 0.0) {
             held_v += v[i];
             ++held;
-          } else {
-            const double m = 1.0 / inverse_mass[i];
-            mass += m;
-            xc += m * x[i];
-            vc += m * v[i];
           }
         }
         if (held > 0) {
@@ -686,28 +680,16 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
           for (std::size_t k = b; k < e; ++k)
             if (inverse_mass[members[k].second] > 0.0) v[members[k].second] = held_v;
         } else {
-          xc /= mass;
-          vc /= mass;
-          Vec3 L = Vec3::Zero();
-          Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
+          const RigidVelocity rigid =
+              fitRigidVelocity(static_cast<int>(e - b), [&](int k, double& m, Vec3& xk, Vec3& vk) {
+                const int i = members[b + k].second;
+                m = 1.0 / inverse_mass[i];
+                xk = x[i];
+                vk = v[i];
+              });
           for (std::size_t k = b; k < e; ++k) {
             const int i = members[k].second;
-            const double m = 1.0 / inverse_mass[i];
-            const Vec3 r = x[i] - xc;
-            L += m * r.cross(v[i] - vc);
-            I += m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-          }
-          // omega = I^+ L (a collinear zone has no inertia about its line).
-          const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
-          Vec3 omega = Vec3::Zero();
-          const double top = eig.eigenvalues().maxCoeff();
-          for (int j = 0; j < 3; ++j)
-            if (eig.eigenvalues()[j] > 1e-12 * top)
-              omega += eig.eigenvectors().col(j).dot(L) / eig.eigenvalues()[j] *
-                       eig.eigenvectors().col(j);
-          for (std::size_t k = b; k < e; ++k) {
-            const int i = members[k].second;
-            v[i] = vc + omega.cross(x[i] - xc);
+            v[i] = rigid.at(x[i]);
           }
         }
       }
