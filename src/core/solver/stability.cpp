@@ -18,30 +18,38 @@ namespace {
 // several times faster than the simplicial LDL^T on a drape's tangent (the check was 6 % of the
 // 48 x 48 pedestal's drape, the LDL^T nearly all of it); its success is the inertia (no negative
 // eigenvalue). Where it fails, the simplicial LDL^T, which takes an indefinite S, gives the
-// solves and counts the negative pivots.
+// solves and counts the negative pivots. Every shift has the pattern of S: both factorisations
+// analyse it once (the analysis cost as much as a factorisation of the tablecloth's tangent).
 class ShiftInvert {
  public:
   using Scalar = double;
-  explicit ShiftInvert(const Eigen::SparseMatrix<double>& S) : S_(S) {
+  explicit ShiftInvert(const Eigen::SparseMatrix<double>& S) : S_(S), A_(S) {
     llt_.cholmod().print = 0;  // a failure is an answer here (not positive definite)
   }
   Eigen::Index rows() const { return S_.rows(); }
   Eigen::Index cols() const { return S_.cols(); }
+  // Spectra's solvers set their shift themselves: a shift already factorised is kept.
   void set_shift(double sigma) {
-    Eigen::SparseMatrix<double> I(S_.rows(), S_.cols());
-    I.setIdentity();
-    const Eigen::SparseMatrix<double> A = S_ - sigma * I;
+    if (!(factored_ && sigma == sigma_)) factorize(sigma, true);
+  }
+  // Factorises S - sigma I; with `inertia` false an indefinite S - sigma I is only reported
+  // (factored() false), not factorised again by the LDL^T to count its negative eigenvalues.
+  void factorize(double sigma, bool inertia) {
+    sigma_ = sigma;
+    A_.diagonal() = S_.diagonal().array() - sigma;
     {
       const InlineOpenMpRegions serial;
-      llt_.compute(A);
+      if (!llt_analyzed_) llt_.analyzePattern(A_);
+      llt_analyzed_ = true;
+      llt_.factorize(A_);
     }
     definite_ = llt_.info() == Eigen::Success;
-    if (definite_) {
-      negative_ = 0;
-      factored_ = true;
-      return;
-    }
-    ldlt_.compute(A);
+    factored_ = definite_;
+    negative_ = 0;
+    if (definite_ || !inertia) return;
+    if (!ldlt_analyzed_) ldlt_.analyzePattern(A_);
+    ldlt_analyzed_ = true;
+    ldlt_.factorize(A_);
     factored_ = ldlt_.info() == Eigen::Success;
     negative_ = factored_ ? static_cast<int>((ldlt_.vectorD().array() < 0.0).count()) : 0;
   }
@@ -54,13 +62,17 @@ class ShiftInvert {
       y = ldlt_.solve(x);
   }
   bool factored() const { return factored_; }
+  bool definite() const { return definite_; }
   int negativeEigenvalues() const { return negative_; }
 
  private:
   const Eigen::SparseMatrix<double>& S_;
+  Eigen::SparseMatrix<double> A_;  // S - sigma I
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
+  bool llt_analyzed_ = false, ldlt_analyzed_ = false;
   bool definite_ = false, factored_ = false;
+  double sigma_ = 0.0;
   int negative_ = 0;
 };
 
@@ -74,10 +86,16 @@ StabilityCheck checkStability(const Eigen::SparseMatrix<double>& K) {
     out.lowest_eigenvalue = HUGE_VAL;
     return out;
   }
-  Eigen::SparseMatrix<double> S = 0.5 * (K + Eigen::SparseMatrix<double>(K.transpose()));
+  // S = D^-1/2 K_s D^-1/2, scaled in place; the explicit zero diagonal keeps every diagonal
+  // entry in the pattern, which the shifts write.
+  Eigen::SparseMatrix<double> I(n, n);
+  I.setIdentity();
+  Eigen::SparseMatrix<double> S = 0.5 * (K + Eigen::SparseMatrix<double>(K.transpose())) + 0.0 * I;
   Eigen::VectorXd scale = S.diagonal().cwiseAbs();
   for (Eigen::Index i = 0; i < n; ++i) scale[i] = scale[i] > 0.0 ? 1.0 / std::sqrt(scale[i]) : 1.0;
-  S = scale.asDiagonal() * S * scale.asDiagonal();
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(S, j); it; ++it)
+      it.valueRef() *= scale[it.row()] * scale[j];
 
   ShiftInvert op(S);
   op.set_shift(0.0);
@@ -99,13 +117,13 @@ StabilityCheck checkStability(const Eigen::SparseMatrix<double>& K) {
     if (out.negative_eigenvalues > 0 && out.lowest_eigenvalue >= 0.0) {
       // The inertia counts a negative eigenvalue that the eigenvalues nearest zero do not hold
       // (a cluster of tiny positive ones around a folding sheet's mode). Bracket the lowest by
-      // inertia, S - sigma I without a negative pivot for the first sigma = -1e-10, -1e-9, ...,
-      // so that it lies in [sigma, sigma / 10): the eigenvalue nearest sigma is the lowest.
+      // inertia, S - sigma I positive definite for the first sigma = -1e-10, -1e-9, ..., so
+      // that it lies in [sigma, sigma / 10): the eigenvalue nearest sigma is the lowest. The
+      // LL^T's success alone is that inertia: no LDL^T is needed on the way down.
       for (double sigma = -1e-10; sigma >= -10.0; sigma *= 10.0) {
-        ShiftInvert below(S);
-        below.set_shift(sigma);
-        if (!below.factored() || below.negativeEigenvalues() > 0) continue;
-        Spectra::SymEigsShiftSolver<ShiftInvert> lowest(below, 1, std::min<Eigen::Index>(n, 20),
+        op.factorize(sigma, false);
+        if (!op.definite()) continue;
+        Spectra::SymEigsShiftSolver<ShiftInvert> lowest(op, 1, std::min<Eigen::Index>(n, 20),
                                                         sigma);
         lowest.init();
         lowest.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10,
