@@ -345,8 +345,12 @@ int main(int argc, char** argv) {
   app.add_option("--lagrangian-tolerance", base.lagrangian_tolerance,
                  "the lagrangian_* steps' solve tolerance [m/s]")
       ->check(CLI::PositiveNumber);
-  app.add_flag("--contact-between-layers-only", base.contact_between_layers_only,
-               "lagrangian_*: the fibres' contact only where two layers meet");
+  app.add_option("--contact-between-layers-only", base.contact_between_layers_only,
+                 "lagrangian_*: the fibres' contact only where two layers meet (true, false)");
+  app.add_option("--flip-blend", base.flip_blend,
+                 "lagrangian_*: the transfer back's share of the elastic velocity the grid "
+                 "averaged away, Han (4.12) (0: the grid's velocity alone)")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--obstacle-stiffness", base.obstacle_stiffness,
                  "lagrangian_*: the sphere's penalty in the elastic solve (0: the grid alone)")
       ->check(CLI::NonNegativeNumber);

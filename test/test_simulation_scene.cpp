@@ -140,6 +140,8 @@ TEST(SimulationScene, RefusesBadInputNamingTheKey) {
       {edited("duration: 0.5", "duration: -1"), "duration: must be positive"},
       {edited("elastic_max_iterations: 12", "elastic_max_iterations: 0"),
        "world.elastic_max_iterations: must be"},
+      {edited("elastic_max_iterations: 12", "elastic_max_iterations: 12, flip_blend: 1.5"),
+       "world.flip_blend: must lie in [0, 1]"},
       {edited("cells: [4, 2]", "cells: [4, 2.5]"),
        "bodies[0].rectangle.cells: must be positive integers"},
       {edited("material: {preset: cotton_eischen, areal_density: 0.3}", "material: silk"),

@@ -69,10 +69,15 @@ struct HybridShellSettings {
   int elastic_history = 8;
   // The Lagrangian implicit step's transfer back, Han (4.12): the control points take the grid's
   // velocity (APIC) plus flip_blend times what the transfer averaged away of their elastic
-  // velocity. 0: layers of one garment that share nodes move together, as MPM's self-contact
-  // needs (the twisted tube); 1: the elastic motion's sub-cell detail is kept, but the layers'
-  // own velocities pass through each other.
-  double flip_blend = 0.0;
+  // velocity, except where the grid stage changed a node of their support (contact between
+  // layers, with an obstacle or another body: there the nodes' velocity resolves the contact,
+  // and they take it alone). 0: the grid's velocity everywhere (before 2026-12-07); 1: a lone
+  // layer keeps its elastic motion's sub-cell detail, which the grid's velocity alone averaged
+  // away as damping (the swinging sheet: 23.4 instead of 25.6 % per swing with backward Euler,
+  // 7.1 instead of 14.4 % with BDF2; docs/VALIDATION.md). With every fibre in contact
+  // (contact_between_layers_only false) the grid changes nearly every node, so the blend acts
+  // with the broad phase below.
+  double flip_blend = 1.0;
   // The Lagrangian steps' elastic solve meets the obstacles through a penalty and lagged Coulomb
   // friction (shell/implicit_elasticity.h, ObstaclePenalty): stiffness of the fibres' mid-surface
   // points and of the control points (each at rest yields by g dt^2 / (sum of both), 0.07 mm at
@@ -102,14 +107,14 @@ struct HybridShellSettings {
   // Fibre contact model of Han (5.21)-(5.30); stiffnesses <= 0 take the lamina's Young modulus
   // (k^c = E, gamma = E / 10) so that contact is as stiff as the cloth's stretch.
   ContactMaterial contact{0.0, 0.0, 0.3};
-  // Opt-in broad phase of the Lagrangian steps' fibre contact: a fibre keeps its contact only
-  // where another layer of the garment shares grid nodes with it (mpm/layer_proximity.h), and is
-  // the surface normal elsewhere, as after a separation (5.29). The contact solve then takes one
-  // force evaluation where no layers meet (the towel: 1 instead of 5-8 per step), but a lone
-  // layer loses the fibres' forces, which on the swinging sheet held back the step's numerical
-  // damping: 37.9 % per swing instead of 25.6 % (backward Euler), 36 % instead of 14.4 % (BDF2).
-  // false: every fibre carries contact, as in the explicit and grid backward Euler steps.
-  bool contact_between_layers_only = false;
+  // Broad phase of the Lagrangian steps' fibre contact: a fibre keeps its contact only where
+  // another layer of the garment shares grid nodes with it (mpm/layer_proximity.h), and is the
+  // surface normal elsewhere, as after a separation (5.29). The contact solve then takes one
+  // force evaluation where no layers meet (the towel: 1 instead of 5-8 per step). The lone
+  // layer's fibre forces had held back some of the grid velocity's averaging (without them and
+  // with flip_blend 0, the swinging sheet lost 37.9 % per swing); flip_blend keeps that motion
+  // instead. false: every fibre carries contact, as in the explicit and grid backward Euler steps.
+  bool contact_between_layers_only = true;
   // Obstacles (grid boundary conditions, Han section 3.4) and their default Coulomb mu.
   mpm::ColliderBoundary boundary = mpm::ColliderBoundary::kSeparating;
   double friction = 0.0;
@@ -392,6 +397,7 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   // another layer shares its grid nodes in this step (empty: every fibre carries contact).
   std::unique_ptr<mpm::LayerProximity> layers_;
   std::vector<char> near_layer_;
+  std::vector<char> pic_nodes_;  // per grid node: the grid stage changed its velocity
   bool fibreInContact(int p) const { return near_layer_.empty() || near_layer_[p]; }
   ImplicitElasticityResult last_elastic_;
   std::vector<Eigen::Vector3d> lagrangian_velocity_, elastic_force_, transferred_velocity_,
