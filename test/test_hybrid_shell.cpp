@@ -161,7 +161,7 @@ TEST(HybridShell, RejectsNonsense) {
   EXPECT_THROW(clamped.unpin(3), InputError);
   EXPECT_THROW(clamped.pin(10), InputError);
   EXPECT_NO_THROW(clamped.pin(1));  // the neighbour clamp 0's points follow
-  p.bc.pinned = {3};  // clamped and pinned
+  p.bc.pinned = {3};                // clamped and pinned
   EXPECT_THROW(HybridShellDynamics{p}, InputError);
 }
 
