@@ -788,12 +788,13 @@ void HybridShellDynamics::transferToParticles(double dt) {
     // obstacle or another body), the point takes the grid's velocity alone (PIC): the node's
     // velocity is what resolves that contact, and the elastic motion's detail handed back on
     // top would carry the point on into it (with the blend everywhere, the twisted tube crossed
-    // itself from 0.08 s instead of 0.75 turns). Elsewhere the blend keeps that sub-cell detail,
+    // itself from 0.08 s instead of 0.88 turns). Elsewhere the blend keeps that sub-cell detail,
     // which PIC would average away as damping. There the grid's velocity is the transferred one,
     // so v = (1 - xi) v_grid + xi v*, and C is the grid's: where xi = 1 the control points carry
     // the motion themselves and C is only the next transfer's affine fit of it (kept from before
     // instead, C conserves APIC's angular momentum but goes stale: the cloth dropped on the
     // sphere then stretched by 3.9-4.4 % instead of 3.0-3.2 %).
+    // "Changed": by more than round-off (1e-8 m/s; a lone layer's nodes differ by ~1e-20).
     const int k = supports_[0].per_particle;
     pic_nodes_.resize(grid_.size());
     tbb::parallel_for(0, grid_.size(), [&](int i) {
