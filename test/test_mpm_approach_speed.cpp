@@ -1,6 +1,7 @@
 // The CFL speed from the motion (core/mpm/approach_speed.h): zero for a body that moves as a whole
 // (Galilean invariance) or with the obstacle it lies on, the relative speed where a particle may
-// reach an obstacle or another body within the longest step, and nothing beyond that reach.
+// reach an obstacle or another body within the longest step, and nothing beyond that reach; within
+// a body whose field acts between layers only, only the speed at which one layer closes in.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -94,6 +95,48 @@ TEST(ApproachSpeed, TwoBodiesCountWhereTheyCanMeet) {
   EXPECT_EQ(approachSpeed({sheet(0.30, down, false), sheet(0.0, Vec3::Zero(), false)}, {}, kSupport,
                           kStep),
             0.0);
+}
+
+TEST(ApproachSpeed, ALayerAwareBodyCountsOnlyItsOtherLayersClosingIn) {
+  // The rotating sheet of the test above, its pairs all on one layer: nothing to bound.
+  MotionGroup turning = sheet(0.0, Vec3::Zero(), true);
+  for (std::size_t p = 0; p < turning.x.size(); ++p)
+    turning.v[p] = Vec3(0, 0, 2.0).cross(turning.x[p]);
+  turning.one_layer = [](int, int, double) { return true; };
+  EXPECT_NEAR(approachSpeed({turning}, {}, kSupport, kStep), 0.0, 1e-15);
+  // Shrinking towards its corner at 5 /s, it closes in on itself: pairs d apart at 5 d, those
+  // that come within the support in the step, d (1 - 5 / 60) < 3 cm: the farthest such pair on
+  // the 1 cm lattice is sqrt(10) cm apart.
+  MotionGroup shrinking = turning;
+  for (std::size_t p = 0; p < shrinking.x.size(); ++p) shrinking.v[p] = -5.0 * shrinking.x[p];
+  const double closing = approachSpeed({shrinking}, {}, kSupport, kStep);
+  std::printf("one layer shrinking at 5 /s: approach %.4g m/s (closed form %.4g)\n", closing,
+              5.0 * std::sqrt(10.0) * 0.01);
+  EXPECT_NEAR(closing, 5.0 * std::sqrt(10.0) * 0.01, 1e-12);
+
+  // A folded sheet: particles 0-99 one layer, 100-199 the other, z0 above it.
+  const auto folded = [](double z0, const Vec3& v) {
+    MotionGroup g = sheet(z0, v, true);
+    const MotionGroup lower = sheet(0.0, Vec3::Zero(), true);
+    g.x.insert(g.x.end(), lower.x.begin(), lower.x.end());
+    g.v.insert(g.v.end(), lower.v.begin(), lower.v.end());
+    g.one_layer = [](int p, int q, double) { return (p < 100) == (q < 100); };
+    return g;
+  };
+  const Vec3 down(0.0, 0.0, -1.5), across(1.5, 0.0, 0.0);
+  // The upper layer falling at 1.5 m/s from 2 cm, or from 5 cm (it comes to 2.5 cm, within the
+  // 3 cm support, in 1/60 s): its own speed, pair by pair, not the boxes' up to sqrt 3 times it.
+  for (double z0 : {0.02, 0.05}) {
+    const double w = approachSpeed({folded(z0, down)}, {}, kSupport, kStep);
+    std::printf("upper layer %.0f cm above the lower, falling at 1.5 m/s: approach %.4g m/s\n",
+                100 * z0, w);
+    EXPECT_DOUBLE_EQ(w, 1.5);
+  }
+  // From 6 cm it stays 3.5 cm away; 20 cm above it sliding across it never closes in.
+  EXPECT_EQ(approachSpeed({folded(0.06, down)}, {}, kSupport, kStep), 0.0);
+  EXPECT_EQ(approachSpeed({folded(0.20, across)}, {}, kSupport, kStep), 0.0);
+  // Sliding across it 2 cm above: within the support, so it counts.
+  EXPECT_DOUBLE_EQ(approachSpeed({folded(0.02, across)}, {}, kSupport, kStep), 1.5);
 }
 
 TEST(MotionTimeStep, BoundsTheApproachNotTheSpeed) {

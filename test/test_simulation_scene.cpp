@@ -17,7 +17,7 @@ name: pair
 duration: 0.5
 frame_rate: 20
 world: {grid_spacing: 0.02, body_friction: 0.4, integration: backward_euler, damping: 1.5,
-        elastic_max_iterations: 12}
+        elastic_max_iterations: 12, cfl_between_layers_only: true}
 bodies:
   - name: towel
     rectangle: {size: [0.2, 0.1], cells: [4, 2]}
@@ -64,6 +64,7 @@ TEST(SimulationScene, ParsesBodiesWorldAndScriptedColliders) {
   EXPECT_EQ(s.shell.integration, TimeIntegration::kBackwardEuler);
   EXPECT_DOUBLE_EQ(s.shell.damping, 1.5);
   EXPECT_EQ(s.shell.elastic_max_iterations, 12);
+  EXPECT_TRUE(s.shell.cfl_between_layers_only);
   ASSERT_EQ(s.bodies.size(), 1u);
   const SimulationBody& b = s.bodies[0];
   EXPECT_EQ(b.name, "towel");

@@ -52,6 +52,7 @@ void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings
   nh.param("lagrangian_tolerance", s.lagrangian_tolerance, s.lagrangian_tolerance);
   nh.param("contact_between_layers_only", s.contact_between_layers_only,
            s.contact_between_layers_only);
+  nh.param("cfl_between_layers_only", s.cfl_between_layers_only, s.cfl_between_layers_only);
   nh.param("flip_blend", s.flip_blend, s.flip_blend);
   nh.param("max_newton_iterations", s.max_newton_iterations, s.max_newton_iterations);
   nh.param("elastic_max_iterations", s.elastic_max_iterations, s.elastic_max_iterations);

@@ -409,6 +409,7 @@ void parseWorld(const YAML::Node& node, SimulationScene& scene) {
       w.positive("obstacle_friction_velocity", sh.obstacle_friction_velocity);
   sh.contact_between_layers_only =
       w.boolean("contact_between_layers_only", sh.contact_between_layers_only);
+  sh.cfl_between_layers_only = w.boolean("cfl_between_layers_only", sh.cfl_between_layers_only);
   sh.flip_blend = w.number("flip_blend", sh.flip_blend);
   if (!(sh.flip_blend >= 0.0 && sh.flip_blend <= 1.0))
     failKey(w.key("flip_blend"), "must lie in [0, 1]");

@@ -13,10 +13,12 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-// The velocities of one group's particles in one cell.
+// The velocities of one group's particles in one cell, and the particles themselves where their
+// pairs may have to count one by one (MotionGroup::one_layer).
 struct VelocityBox {
   int group = 0;
   Vec3 lo, hi;
+  std::vector<int> members;
 };
 
 constexpr int kCellRange = 1 << 20;  // cells per axis each side of the origin
@@ -81,26 +83,65 @@ double approachSpeed(const std::vector<MotionGroup>& groups,
       std::vector<VelocityBox>& here = boxes[it->second];
       auto b = std::find_if(here.begin(), here.end(),
                             [gi](const VelocityBox& vb) { return vb.group == gi; });
-      if (b == here.end())
-        here.push_back({gi, g.v[p], g.v[p]});
-      else {
+      if (b == here.end()) {
+        here.push_back({gi, g.v[p], g.v[p], {}});
+        b = here.end() - 1;
+      } else {
         b->lo = b->lo.cwiseMin(g.v[p]);
         b->hi = b->hi.cwiseMax(g.v[p]);
       }
+      if (g.self && g.one_layer) b->members.push_back(static_cast<int>(p));
     }
   }
-  for (std::size_t ci = 0; ci < cells.size(); ++ci)
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const auto it = index.find(cellKey(cells[ci] + Eigen::Vector3i(dx, dy, dz)));
-          if (it == index.end()) continue;
-          for (const VelocityBox& a : boxes[ci])
-            for (const VelocityBox& b : boxes[it->second])
-              if (a.group != b.group || groups[a.group].self)
-                w = std::max(w, (a.hi.cwiseMax(b.hi) - a.lo.cwiseMin(b.lo)).norm());
-        }
-  return w;
+  // Pairs of one layer-aware group, one by one: those that could raise w, may meet within the
+  // longest step and lie on two layers. same_cell: count each pair once.
+  const auto layerPairs = [&](const MotionGroup& g, const VelocityBox& a, const VelocityBox& b,
+                              bool same_cell, double w) {
+    for (std::size_t i = 0; i < a.members.size(); ++i) {
+      const int p = a.members[i];
+      for (std::size_t j = same_cell ? i + 1 : 0; j < b.members.size(); ++j) {
+        const int q = b.members[j];
+        const double u = (g.v[p] - g.v[q]).norm();
+        if (u <= w) continue;
+        // Closest within the longest step, each moving on at its velocity: one farther apart
+        // than the layer test reaches counts only if it closes in.
+        const Vec3 r = g.x[p] - g.x[q], du = g.v[p] - g.v[q];
+        const double t = std::clamp(-r.dot(du) / (u * u), 0.0, longest_step);
+        if ((r + t * du).norm() >= support) continue;
+        const double d = r.norm();
+        if (!g.one_layer(p, q, d))
+          w = u;
+        else if (d > 0.0)  // a layer turning or sliding past itself keeps its distances
+          w = std::max(w, -r.dot(du) / d);
+      }
+    }
+    return w;
+  };
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, static_cast<int>(cells.size()), 16), w,
+      [&](const tbb::blocked_range<int>& r, double w_local) {
+        for (int ci = r.begin(); ci != r.end(); ++ci)
+          for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                const auto it = index.find(cellKey(cells[ci] + Eigen::Vector3i(dx, dy, dz)));
+                if (it == index.end()) continue;
+                const int cj = it->second;
+                for (const VelocityBox& a : boxes[ci])
+                  for (const VelocityBox& b : boxes[cj]) {
+                    const MotionGroup& g = groups[a.group];
+                    if (a.group == b.group && !g.self) continue;
+                    const double bound = (a.hi.cwiseMax(b.hi) - a.lo.cwiseMin(b.lo)).norm();
+                    if (bound <= w_local) continue;
+                    if (a.group != b.group || !g.one_layer)
+                      w_local = bound;
+                    else if (cj >= ci)  // each pair of cells once
+                      w_local = layerPairs(g, a, b, cj == ci, w_local);
+                  }
+              }
+        return w_local;
+      },
+      [](double a, double b) { return std::max(a, b); });
 }
 
 double motionTimeStep(const std::vector<MotionGroup>& groups,

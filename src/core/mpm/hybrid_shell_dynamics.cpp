@@ -217,6 +217,10 @@ HybridShellDynamics::HybridShellDynamics(const DrapeProblem& problem,
     layers_ =
         std::make_unique<mpm::LayerProximity>(clamps_.extendedMesh(), std::move(face),
                                               std::sqrt(3.0) * (settings.kernel_degree + 1) * dx_);
+    control_face_.assign(nc, -1);
+    const auto& quads = clamps_.extendedMesh().quads;
+    for (int f = static_cast<int>(quads.size()) - 1; f >= 0; --f)
+      for (int c : quads[f]) control_face_[c] = f;
   }
   contact_.fibre_force.assign(contact_.size(), Vec3::Zero());
   for (int p = 0; p < nc; ++p) control_.add(x0[p], Vec3::Zero(), lumped[p], 0.0);
@@ -948,6 +952,15 @@ mpm::MotionGroup HybridShellDynamics::motion() const {
     g.x.insert(g.x.end(), set->x.begin(), set->x.end());
     g.v.insert(g.v.end(), set->v.begin(), set->v.end());
   }
+  // Where the fibres act between layers only, two control points of one layer meet through the
+  // shell's elasticity alone: only their closing in needs a short step (the solid's particles
+  // count as before).
+  if (layers_ && settings_.cfl_between_layers_only)
+    g.one_layer = [this](int p, int q, double distance) {
+      const int nc = control_.size();
+      return p < nc && q < nc &&
+             layers_->facesOnOneLayer(control_face_[p], control_face_[q], distance);
+    };
   return g;
 }
 

@@ -77,13 +77,16 @@ LayerProximity::LayerProximity(const QuadMesh& mesh, std::vector<int> particle_f
 }
 
 bool LayerProximity::sameLayer(int p, int q, const std::vector<Vec3>& x) const {
-  const int a = particle_face_[p], b = particle_face_[q];
+  return facesOnOneLayer(particle_face_[p], particle_face_[q], (x[p] - x[q]).norm());
+}
+
+bool LayerProximity::facesOnOneLayer(int a, int b, double distance) const {
   if (a == b) return true;
   const std::vector<std::pair<int, double>>& near = neighbourhood_[a];
   const auto it = std::lower_bound(near.begin(), near.end(), std::make_pair(b, -1.0));
   if (it == near.end() || it->first != b) return false;
-  // The centroid path overestimates the particles' surface distance by up to a face diameter.
-  return it->second - radius_slack_ <= kCurvatureSlack * (x[p] - x[q]).norm();
+  // The centroid path overestimates the points' surface distance by up to a face diameter.
+  return it->second - radius_slack_ <= kCurvatureSlack * distance;
 }
 
 void LayerProximity::find(const SparseGrid& grid, const SupportNodes& supports,

@@ -27,6 +27,8 @@ struct ImplicitElasticity::Factor {
   // transposes once less than the lower (solver/energy_newton.cpp).
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt;
   bool analyzed = false;
+  // An indefinite exact Hessian is expected (refresh() then projects): no CHOLMOD warning.
+  Factor() { llt.cholmod().print = 0; }
 };
 
 ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& points,
@@ -259,7 +261,8 @@ double ImplicitElasticity::incrementalPotential(const std::vector<Vec3>& x,
 
 void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<double>& mass,
                                   double dt, const std::vector<Vec3>& free,
-                                  const HenckyLamina& material, ImplicitElasticityResult& result) {
+                                  const HenckyLamina& material, bool projected,
+                                  ImplicitElasticityResult& result) {
   const auto start = std::chrono::steady_clock::now();
   obstaclePenalty(x, mass, dt);  // the contacts at x (the last potential may be a rejected trial)
   const bool contact = obstacles_ && obstacles_->active();
@@ -277,8 +280,9 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
     K.assign(static_cast<std::size_t>(S) * S, Mat3::Zero());
     for (int f = first; f < last; ++f) {
       const SurfaceStencil& st = points_[fibres_[f].first].stencil();
-      const FibreHessian H =
-          projectedFibreHessian(points_, fibres_[f], material, MidSurfaceFrame::sums(st, x));
+      const StencilSums sums = MidSurfaceFrame::sums(st, x);
+      const FibreHessian H = projected ? projectedFibreHessian(points_, fibres_[f], material, sums)
+                                       : fibreHessian(points_, fibres_[f], material, sums);
       const std::vector<double>* c[5] = {&st.du, &st.dv, &st.duu, &st.duv, &st.dvv};
       for (int k = 0; k < S; ++k) {
         // T_k = sum_a c_a[k] H_{a.}, then block (k, l) = sum_b T_k,b c_b[l].
@@ -356,6 +360,18 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
   factored_free_ = free;
 }
 
+void ImplicitElasticity::refresh(const std::vector<Vec3>& x, const std::vector<double>& mass,
+                                 double dt, const std::vector<Vec3>& free,
+                                 const HenckyLamina& material, ImplicitElasticityResult& result) {
+  if (!exact_refused_) {
+    assemble(x, mass, dt, free, material, false, result);
+    if (factored_) return;
+    exact_refused_ = true;  // for the rest of this solve: a refusal costs a factorisation
+    ++result.exact_refusals;
+  }
+  assemble(x, mass, dt, free, material, true, result);
+}
+
 ImplicitElasticityResult ImplicitElasticity::solve(
     std::vector<Vec3>& x, const std::vector<Vec3>& x_hat, const std::vector<double>& mass,
     double dt, const std::vector<Vec3>& free, const HenckyLamina& material,
@@ -429,13 +445,14 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     return Eigen::VectorXd(-r);
   };
   ImplicitElasticityResult result;
+  exact_refused_ = false;
   obstacles_ = &s.obstacles;
   lagContacts(mass, dt);
   double phi = incrementalPotential(x, x_hat, mass, dt, material, true);
   result.initial_residual = result.residual = foldGradient();
   // Residual reduction of the last iteration, and whether that iteration ran on a factor of an
   // earlier iterate (a fresh factor that converges slowly is not refreshed again at once: the
-  // Hessian's projection, not its age, is what slows it).
+  // Hessian's projection or the contacts' kinks, not its age, are what slow it).
   double ratio = 0.0;
   bool stale = true;
   std::vector<Vec3> trial(n);
@@ -443,11 +460,11 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     // The CFL step varies a little from step to step: a factor of a step within 25 % still
     // serves (its mass term is off by less than the stiffness it lags by).
     bool fresh = !factored_ || !s.reuse_factorization || std::abs(dt / factored_dt_ - 1.0) > 0.25 ||
-                 free != factored_free_ || (stale && ratio > s.refresh_ratio);
+                 free != factored_free_ || (stale && ratio > s.refresh_ratio) || newton_;
     bool accepted = false, fresh_used = false;
     for (int attempt = 0; attempt < 2 && !accepted; ++attempt) {
       if (fresh || !factored_) {
-        assemble(x, mass, dt, free, material, result);
+        refresh(x, mass, dt, free, material, result);
         pair_s_.clear();  // the new factor holds what they approximated
         pair_y_.clear();
         ++result.factorizations;
@@ -504,8 +521,17 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     }
     ratio = residual / std::max(result.residual, std::numeric_limits<double>::min());
     result.residual = residual;
+    // A kept factor could not lower the residual at all: the cloth has turned or deformed beyond
+    // what it describes (the towel at 1/60 s, each step turning it 0.1 rad). Newton then pays
+    // for a factorisation per iteration, quadratic on the exact Hessian, unless a sample touches
+    // an obstacle: the penalty's and friction's kinks slow Newton to the chord's rate. It stays
+    // on into the next solves: a first iteration on the last step's factor, and chord iterations
+    // between fresh ones, led the Newton iterations astray (0.36 -> 1.5 m/s).
+    if (stale && ratio >= 1.0 && pushes_.empty()) newton_ = true;
   }
   result.converged = result.residual < s.tolerance;
+  // Back to the kept factor once Newton converges at once (the motion has calmed) or not at all.
+  if (newton_ && (result.iterations <= 2 || !result.converged)) newton_ = false;
   obstaclePenalty(x, mass, dt);  // pushes_ at the returned iterate
   normal_force_ = normal_;       // the next step's friction bound
   obstacles_ = nullptr;

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,6 +14,13 @@ namespace chs::mpm {
 struct MotionGroup {
   std::vector<Eigen::Vector3d> x, v;
   bool self = false;
+  // With self, where the field carries forces only between layers (a shell's fibres with
+  // contact_between_layers_only): whether particles p and q, `distance` apart now, lie on one
+  // layer. Such a pair is kept apart by the body's elasticity, not by the grid, so only the speed
+  // at which it closes in counts, not its whole relative speed: a lone sheet turning or sliding
+  // past itself steps at the rate its obstacles and its other layers ask for. Unset: every
+  // pair's relative speed counts.
+  std::function<bool(int p, int q, double distance)> one_layer;
 };
 
 // The speed at which things that may meet on the grid within a step close on each other: the CFL
@@ -29,7 +37,10 @@ struct MotionGroup {
 //    different groups, or of one group with `self`. Particles are binned in cells that hold every
 //    such pair in neighbouring cells (`support` plus twice the fastest particle's travel), and the
 //    bound is the diagonal of the velocities' bounding box over two neighbouring cells (at least
-//    the largest relative speed there, at most sqrt 3 times it).
+//    the largest relative speed there, at most sqrt 3 times it). Within a group with `one_layer`,
+//    where that box could raise the bound, its pairs count one by one instead, those that come
+//    within `support` of each other in the longest step, each moving on at its velocity: on two
+//    layers by their relative speed, on one by the speed at which they close in.
 // support: the distance at which two particles' kernels overlap ((degree + 1) dx). Zero when
 // nothing approaches anything.
 double approachSpeed(const std::vector<MotionGroup>& groups,

@@ -115,6 +115,14 @@ struct HybridShellSettings {
   // with flip_blend 0, the swinging sheet lost 37.9 % per swing); flip_blend keeps that motion
   // instead. false: every fibre carries contact, as in the explicit and grid backward Euler steps.
   bool contact_between_layers_only = true;
+  // With contact_between_layers_only: the step bound (stableTimeStep) counts two control points of
+  // one layer only by the speed at which they close in, not their whole relative speed, as the
+  // grid carries no force between them (mpm/approach_speed.h). A lone towel swinging from two
+  // corners then steps at max_time_step (1/60 s: 30 steps in its first 0.5 s instead of 168),
+  // its elastic solves refactorising at each Newton iteration (ImplicitElasticity::solve). A
+  // tube wrung through itself crosses from 0.76 instead of 0.88 turns (docs/BENCHMARKS.md,
+  // 2026-12-07). false: every pair of the shell's particles counts by its relative speed.
+  bool cfl_between_layers_only = true;
   // Obstacles (grid boundary conditions, Han section 3.4) and their default Coulomb mu.
   mpm::ColliderBoundary boundary = mpm::ColliderBoundary::kSeparating;
   double friction = 0.0;
@@ -394,9 +402,11 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   // right after the transfer (the FLIP transfer back hands on the change from it).
   std::unique_ptr<ImplicitElasticity> elasticity_;
   // The Lagrangian steps' broad phase of the fibres' contact, and per contact particle whether
-  // another layer shares its grid nodes in this step (empty: every fibre carries contact).
+  // another layer shares its grid nodes in this step (empty: every fibre carries contact); a
+  // face of each control point, for the step bound's pairs on one layer (motion()).
   std::unique_ptr<mpm::LayerProximity> layers_;
   std::vector<char> near_layer_;
+  std::vector<int> control_face_;
   std::vector<char> pic_nodes_;  // per grid node: the grid stage changed its velocity
   bool fibreInContact(int p) const { return near_layer_.empty() || near_layer_[p]; }
   ImplicitElasticityResult last_elastic_;

@@ -37,6 +37,8 @@ class LayerProximity {
 
   // Whether particles p and q at x lie on one layer.
   bool sameLayer(int p, int q, const std::vector<Eigen::Vector3d>& x) const;
+  // The same for any two points on faces face_a and face_b, `distance` apart in space.
+  bool facesOnOneLayer(int face_a, int face_b, double distance) const;
 
  private:
   static constexpr double kCurvatureSlack = 1.25;
