@@ -93,19 +93,21 @@ double approachSpeed(const std::vector<MotionGroup>& groups,
       if (g.self && g.one_layer) b->members.push_back(static_cast<int>(p));
     }
   }
-  // Pairs of one layer-aware group, one by one: those that could raise w, may meet within the
-  // longest step and lie on two layers. same_cell: count each pair once.
+  // Pairs of one layer-aware group, one by one, those that could raise w and may meet within the
+  // longest step: on two layers by their relative speed, on one by their closing in. same_cell:
+  // count each pair once.
   const auto layerPairs = [&](const MotionGroup& g, const VelocityBox& a, const VelocityBox& b,
                               bool same_cell, double w) {
     for (std::size_t i = 0; i < a.members.size(); ++i) {
       const int p = a.members[i];
       for (std::size_t j = same_cell ? i + 1 : 0; j < b.members.size(); ++j) {
         const int q = b.members[j];
-        const double u = (g.v[p] - g.v[q]).norm();
+        const Vec3 du = g.v[p] - g.v[q];
+        const double u = du.norm();
         if (u <= w) continue;
         // Closest within the longest step, each moving on at its velocity: one farther apart
         // than the layer test reaches counts only if it closes in.
-        const Vec3 r = g.x[p] - g.x[q], du = g.v[p] - g.v[q];
+        const Vec3 r = g.x[p] - g.x[q];
         const double t = std::clamp(-r.dot(du) / (u * u), 0.0, longest_step);
         if ((r + t * du).norm() >= support) continue;
         const double d = r.norm();
