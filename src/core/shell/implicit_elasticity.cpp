@@ -10,25 +10,61 @@
 
 #include <Eigen/CholmodSupport>
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "cloth_hair_sim/core/common/blas_threads.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
+#include "cloth_hair_sim/core/shell/stencil_hessian.h"
 
 namespace chs {
 
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
+// Each thread's sums of the face blocks (9 per block of the pattern), zero between assemblies.
+struct ImplicitElasticity::Workspace {
+  tbb::enumerable_thread_specific<std::vector<double>> blocks;
+  explicit Workspace(std::size_t values) : blocks(std::vector<double>(values, 0.0)) {}
+};
+
+// CHOLMOD's supernodal Cholesky of the Newton matrix assembled in its fill-reducing order: the
+// matrix is built permuted (AMD's order with its postorder, from one analysis of the pattern) and
+// factorised in the natural order. Given the lower triangle in the natural order, CHOLMOD's
+// supernodal factorisation reads the matrix as it is; otherwise it first transposes it once or
+// twice (cholmod_transpose_sym).
 struct ImplicitElasticity::Factor {
-  // The matrix holds both triangles; CHOLMOD reads the upper, which its numeric factorisation
-  // transposes once less than the lower (solver/energy_newton.cpp).
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt;
+  using Llt = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+  // The ordering CHOLMOD chooses for a pattern (its factor's Perm after the analysis).
+  struct Ordering : Llt {
+    std::vector<int> of(const Eigen::SparseMatrix<double>& pattern) {
+      cholmod().print = 0;
+      analyzePattern(pattern);
+      const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+      return std::vector<int>(perm, perm + m_cholmodFactor->n);
+    }
+  };
+  Llt llt;
+  std::vector<int> perm;  // row k of the factorised matrix is row perm[k] of the Newton matrix
   bool analyzed = false;
   // An indefinite exact Hessian is expected (refresh() then projects): no CHOLMOD warning.
-  Factor() { llt.cholmod().print = 0; }
+  Factor() {
+    llt.cholmod().print = 0;
+    llt.cholmod().nmethods = 1;
+    llt.cholmod().method[0].ordering = CHOLMOD_NATURAL;
+    llt.cholmod().postorder = 0;  // the order given is postordered already
+  }
+  // The Newton matrix's inverse applied to b.
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
+    const int n = static_cast<int>(perm.size());
+    Eigen::VectorXd bp(n), x(n);
+    for (int k = 0; k < n; ++k) bp(k) = b(perm[k]);
+    const Eigen::VectorXd y = llt.solve(bp);
+    for (int k = 0; k < n; ++k) x(perm[k]) = y(k);
+    return x;
+  }
 };
 
 ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& points,
@@ -102,7 +138,14 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
     for (int b = block_start_[r]; b < block_start_[r + 1]; ++b)
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) triplets.emplace_back(3 * r + i, 3 * block_col_[b] + j, 0.0);
+  workspace_ = std::make_unique<Workspace>(9 * static_cast<std::size_t>(nb));
   matrix_.resize(3 * n_, 3 * n_);
+  matrix_.setFromTriplets(triplets.begin(), triplets.end());
+  std::vector<int>& perm = factor_->perm;
+  perm = Factor::Ordering().of(matrix_);
+  std::vector<int> position(3 * n_);  // of each unknown in the factorised order
+  for (int k = 0; k < 3 * n_; ++k) position[perm[k]] = k;
+  for (auto& t : triplets) t = Eigen::Triplet<double>(position[t.row()], position[t.col()], 0.0);
   matrix_.setFromTriplets(triplets.begin(), triplets.end());
   value_index_.resize(9 * static_cast<std::size_t>(nb));
   for (int r = 0; r < n_; ++r)
@@ -110,7 +153,8 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
           value_index_[9 * b + 3 * i + j] = static_cast<int>(
-              &matrix_.coeffRef(3 * r + i, 3 * block_col_[b] + j) - matrix_.valuePtr());
+              &matrix_.coeffRef(position[3 * r + i], position[3 * block_col_[b] + j]) -
+              matrix_.valuePtr());
 }
 
 ImplicitElasticity::~ImplicitElasticity() = default;
@@ -266,44 +310,31 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
   const auto start = std::chrono::steady_clock::now();
   obstaclePenalty(x, mass, dt);  // the contacts at x (the last potential may be a rejected trial)
   const bool contact = obstacles_ && obstacles_->active();
-  const std::size_t nv = 9 * block_col_.size();
-  tbb::enumerable_thread_specific<std::vector<double>> local(
-      [nv] { return std::vector<double>(nv, 0.0); });
+  tbb::enumerable_thread_specific<std::vector<double>>& local = workspace_->blocks;
   const std::vector<int>& owner = links_.owner;
   tbb::parallel_for(0, static_cast<int>(groups_.size()) - 1, [&](int group) {
-    // The fibres of one face share its stencil points: their blocks are summed in a dense local
-    // lower triangle and scattered once per face, not once per fibre.
+    // The fibres of one face share its stencil points: their blocks are summed per face
+    // (shell/stencil_hessian.h) and scattered once per face, not once per fibre.
     const int first = groups_[group], last = groups_[group + 1];
     const std::vector<int>& points = points_[fibres_[first].first].stencil().points;
     const int S = static_cast<int>(points.size());
-    thread_local std::vector<Mat3> K;
-    K.assign(static_cast<std::size_t>(S) * S, Mat3::Zero());
+    thread_local StencilHessian K;
+    K.reset(S);
     for (int f = first; f < last; ++f) {
       const SurfaceStencil& st = points_[fibres_[f].first].stencil();
       const StencilSums sums = MidSurfaceFrame::sums(st, x);
-      const FibreHessian H = projected ? projectedFibreHessian(points_, fibres_[f], material, sums)
-                                       : fibreHessian(points_, fibres_[f], material, sums);
-      const std::vector<double>* c[5] = {&st.du, &st.dv, &st.duu, &st.duv, &st.dvv};
-      for (int k = 0; k < S; ++k) {
-        // T_k = sum_a c_a[k] H_{a.}, then block (k, l) = sum_b T_k,b c_b[l].
-        Eigen::Matrix<double, 3, 15> T = Eigen::Matrix<double, 3, 15>::Zero();
-        for (int a = 0; a < 5; ++a) T += (*c[a])[k] * H.block<3, 15>(3 * a, 0);
-        for (int l = 0; l <= k; ++l) {
-          Mat3& B = K[k * S + l];
-          for (int b = 0; b < 5; ++b) B += (*c[b])[l] * T.block<3, 3>(0, 3 * b);
-        }
-      }
-      if (!contact || contacts_[f].obstacle < 0) continue;
-      for (int k = 0; k < S; ++k)
-        for (int l = 0; l <= k; ++l) K[k * S + l] += st.w[k] * st.w[l] * contact_hessian_[f];
+      K.add(st, projected ? projectedFibreHessian(points_, fibres_[f], material, sums)
+                          : fibreHessian(points_, fibres_[f], material, sums));
+      if (contact && contacts_[f].obstacle >= 0) K.addAtPosition(st, contact_hessian_[f]);
     }
+    K.finish();
     std::vector<double>& v = local.local();
     const int* slot = &slot_[slot_start_[first]];
     for (int k = 0; k < S; ++k) {
       const int pk = points[k];
       // Block (l, k) is block (k, l) transposed: half the pairs suffice.
       for (int l = 0; l <= k; ++l) {
-        Mat3 B = K[k * S + l];
+        Mat3 B = K.block(k, l);
         const int pl = points[l];
         if (owner[pk] != pk) B = links_.map[pk].transpose() * B;
         if (owner[pl] != pl) B = B * links_.map[pl];
@@ -317,30 +348,40 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
       }
     }
   });
-  std::vector<double> values(nv, 0.0);
-  for (const auto& v : local)
-    for (std::size_t i = 0; i < nv; ++i) values[i] += v[i];
+  // Per owner: the mass term and the control points' obstacle Hessians, folded (J^T M J).
+  std::vector<Mat3> diagonal(n_, Mat3::Zero());
   for (int p = 0; p < n_; ++p) {
     Mat3 M = mass[p] / (dt * dt) * Mat3::Identity();
     if (contact && contacts_[fibres_.size() + p].obstacle >= 0)
       M += contact_hessian_[fibres_.size() + p];
-    M = links_.map[p].transpose() * M * links_.map[p];
-    double* dst = &values[9 * static_cast<std::size_t>(diagonal_block_[owner[p]])];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) dst[3 * i + j] += M(i, j);
+    diagonal[owner[p]] += links_.map[p].transpose() * M * links_.map[p];
   }
+  std::vector<double*> parts;
+  for (std::vector<double>& v : local) parts.push_back(v.data());
   // Held unknowns (slaved points, pins, fixed components) as identity rows and columns: their
-  // increments solve to zero.
-  auto held = [&](int p, int a) { return owner[p] != p || free[p][a] == 0.0; };
-  for (int r = 0; r < n_; ++r)
-    for (int b = block_start_[r]; b < block_start_[r + 1]; ++b) {
-      const int c = block_col_[b];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          if (held(r, i) || held(c, j)) values[9 * b + 3 * i + j] = (r == c && i == j) ? 1.0 : 0.0;
-    }
+  // increments solve to zero. The threads' sums are cleared as they are read, for the next call.
+  std::vector<char> held(3 * n_);
+  for (int p = 0; p < n_; ++p)
+    for (int i = 0; i < 3; ++i) held[3 * p + i] = owner[p] != p || free[p][i] == 0.0;
   double* a = matrix_.valuePtr();
-  for (std::size_t i = 0; i < nv; ++i) a[value_index_[i]] = values[i];
+  tbb::parallel_for(tbb::blocked_range<int>(0, n_), [&](const tbb::blocked_range<int>& rows) {
+    for (int r = rows.begin(); r < rows.end(); ++r)
+      for (int b = block_start_[r]; b < block_start_[r + 1]; ++b) {
+        const int c = block_col_[b];
+        double B[9] = {};
+        if (r == c)
+          for (int e = 0; e < 9; ++e) B[e] = diagonal[r](e / 3, e % 3);
+        for (double* part : parts)
+          for (int e = 0; e < 9; ++e) {
+            B[e] += part[9 * b + e];
+            part[9 * b + e] = 0.0;
+          }
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            a[value_index_[9 * b + 3 * i + j]] =
+                held[3 * r + i] || held[3 * c + j] ? (r == c && i == j ? 1.0 : 0.0) : B[3 * i + j];
+      }
+  });
   const auto assembled = std::chrono::steady_clock::now();
   result.assembly_seconds += std::chrono::duration<double>(assembled - start).count();
   const InlineOpenMpRegions serial;
@@ -440,7 +481,7 @@ ImplicitElasticityResult ImplicitElasticity::solve(
       alpha[i] = rho[i] * pair_s_[i].dot(q);
       q -= alpha[i] * y[i];
     }
-    Eigen::VectorXd r = factor_->llt.solve(q);
+    Eigen::VectorXd r = factor_->solve(q);
     for (int i = 0; i < m; ++i) r += pair_s_[i] * (alpha[i] - rho[i] * y[i].dot(r));
     return Eigen::VectorXd(-r);
   };

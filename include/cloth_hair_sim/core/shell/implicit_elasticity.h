@@ -191,6 +191,8 @@ class ImplicitElasticity {
   Eigen::SparseMatrix<double> matrix_;
   struct Factor;
   std::unique_ptr<Factor> factor_;
+  struct Workspace;
+  std::unique_ptr<Workspace> workspace_;
   bool factored_ = false;
   double factored_dt_ = 0.0;
   bool exact_refused_ = false;  // in this solve: factorise the projected Hessian directly
