@@ -25,6 +25,7 @@
 #include "cloth_hair_sim/core/mpm/hybrid_shell_dynamics.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_hessian.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
+#include "cloth_hair_sim/core/shell/stencil_hessian.h"
 #include "cloth_hair_sim/core/subdiv/limit_surface.h"
 #include "cloth_hair_sim/core/world/world.h"
 
@@ -227,6 +228,36 @@ void fibreHessian(benchmark::State& state) {
       benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(fibreHessian)->DenseRange(0, 3)->ArgName("method")->Unit(benchmark::kMillisecond);
+
+// The towel's fibre Hessians (exact, computed once) summed face by face into the stencil
+// blocks, as the Newton matrix's assembly does (shell/stencil_hessian.h); one thread.
+// ns_per_face of wall time, over the regular, boundary and corner faces alike.
+void faceHessianSum(benchmark::State& state) {
+  const TowelFibres& towel = towelFibres();
+  std::vector<chs::FibreHessian> H;
+  for (std::size_t f = 0; f < towel.fibres.size(); ++f)
+    H.push_back(chs::fibreHessian(towel.points, towel.fibres[f], towel.lamina, towel.sums[f]));
+  std::vector<int> faces;  // first fibre of each run over one stencil
+  for (std::size_t f = 0; f < towel.fibres.size(); ++f)
+    if (f == 0 || towel.points[towel.fibres[f].first].stencil().points !=
+                      towel.points[towel.fibres[f - 1].first].stencil().points)
+      faces.push_back(static_cast<int>(f));
+  faces.push_back(static_cast<int>(towel.fibres.size()));
+  chs::StencilHessian K;
+  for (auto _ : state)
+    for (std::size_t g = 0; g + 1 < faces.size(); ++g) {
+      K.reset(towel.points[towel.fibres[faces[g]].first].stencil().size());
+      for (int f = faces[g]; f < faces[g + 1]; ++f)
+        K.add(towel.points[towel.fibres[f].first].stencil(), H[f]);
+      K.finish();
+      benchmark::DoNotOptimize(K.block(0, 0).data());
+    }
+  const double n = static_cast<double>(faces.size() - 1);
+  state.counters["faces"] = n;
+  state.counters["ns_per_face"] = benchmark::Counter(
+      n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(faceHessianSum)->Unit(benchmark::kMillisecond);
 
 // Two n x n sheets, the upper one a quarter cell above the lower one, over the sphere: one step
 // of both, in one world (in_world = 1: field contact between them) or each alone (0).

@@ -15,8 +15,8 @@ namespace chs {
 // The fibres' sums run inside the product (over f and the sum index), which keeps each output
 // row in registers: the form of a small matrix product, not of 3 x 3 blocks. On processors
 // with AVX2 and FMA a build of the kernel for them is chosen at run time (GCC's
-// target_clones): a face of the towel took 3.1 us instead of the 6.7 us of the sum over 3 x 3
-// blocks it replaced (docs/BENCHMARKS.md, 2026-12-07); the default build runs anywhere.
+// target_clones); the default build runs anywhere. With it the towel's Newton matrix took 0.75-0.8
+// of the assembly time of the 3 x 3 block sums it replaced (docs/BENCHMARKS.md, 2026-12-07).
 class StencilHessian {
  public:
   // Clears the sum for a face of s stencil points.
