@@ -17,7 +17,8 @@ name: pair
 duration: 0.5
 frame_rate: 20
 world: {grid_spacing: 0.02, body_friction: 0.4, integration: backward_euler, damping: 1.5,
-        elastic_max_iterations: 12, cfl_between_layers_only: true}
+        elastic_max_iterations: 12, cfl_between_layers_only: true,
+        lagrangian_gravity_fraction: 0.01}
 bodies:
   - name: towel
     rectangle: {size: [0.2, 0.1], cells: [4, 2]}
@@ -65,6 +66,7 @@ TEST(SimulationScene, ParsesBodiesWorldAndScriptedColliders) {
   EXPECT_DOUBLE_EQ(s.shell.damping, 1.5);
   EXPECT_EQ(s.shell.elastic_max_iterations, 12);
   EXPECT_TRUE(s.shell.cfl_between_layers_only);
+  EXPECT_DOUBLE_EQ(s.shell.lagrangian_gravity_fraction, 0.01);
   ASSERT_EQ(s.bodies.size(), 1u);
   const SimulationBody& b = s.bodies[0];
   EXPECT_EQ(b.name, "towel");
@@ -143,6 +145,8 @@ TEST(SimulationScene, RefusesBadInputNamingTheKey) {
        "world.elastic_max_iterations: must be"},
       {edited("elastic_max_iterations: 12", "elastic_max_iterations: 12, flip_blend: 1.5"),
        "world.flip_blend: must lie in [0, 1]"},
+      {edited("lagrangian_gravity_fraction: 0.01", "lagrangian_gravity_fraction: -0.1"),
+       "world.lagrangian_gravity_fraction: must lie in [0, 1)"},
       {edited("cells: [4, 2]", "cells: [4, 2.5]"),
        "bodies[0].rectangle.cells: must be positive integers"},
       {edited("material: {preset: cotton_eischen, areal_density: 0.3}", "material: silk"),

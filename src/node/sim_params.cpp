@@ -50,6 +50,10 @@ void loadHybridShellSettings(const ros::NodeHandle& nh, chs::HybridShellSettings
   }
   nh.param("implicit_tolerance", s.implicit_tolerance, s.implicit_tolerance);
   nh.param("lagrangian_tolerance", s.lagrangian_tolerance, s.lagrangian_tolerance);
+  nh.param("lagrangian_gravity_fraction", s.lagrangian_gravity_fraction,
+           s.lagrangian_gravity_fraction);
+  if (!(s.lagrangian_gravity_fraction >= 0.0 && s.lagrangian_gravity_fraction < 1.0))
+    throw chs::InputError("parameter ~mpm/lagrangian_gravity_fraction must lie in [0, 1)");
   nh.param("contact_between_layers_only", s.contact_between_layers_only,
            s.contact_between_layers_only);
   nh.param("cfl_between_layers_only", s.cfl_between_layers_only, s.cfl_between_layers_only);

@@ -398,6 +398,10 @@ void parseWorld(const YAML::Node& node, SimulationScene& scene) {
   ws.cfl = sh.cfl;  // between bodies as within each
   ws.max_particles = w.integer("max_particles", ws.max_particles, 1);
   sh.lagrangian_tolerance = w.positive("lagrangian_tolerance", sh.lagrangian_tolerance);
+  sh.lagrangian_gravity_fraction =
+      w.number("lagrangian_gravity_fraction", sh.lagrangian_gravity_fraction);
+  if (!(sh.lagrangian_gravity_fraction >= 0.0 && sh.lagrangian_gravity_fraction < 1.0))
+    failKey(w.key("lagrangian_gravity_fraction"), "must lie in [0, 1)");
   sh.elastic_max_iterations = w.integer("elastic_max_iterations", sh.elastic_max_iterations, 1);
   sh.obstacle_stiffness = w.number("obstacle_stiffness", sh.obstacle_stiffness);
   sh.obstacle_point_stiffness = w.number("obstacle_point_stiffness", sh.obstacle_point_stiffness);

@@ -78,6 +78,8 @@ const DrapeProblem& validated(const DrapeProblem& problem, const HybridShellSett
   positive(s.max_time_step, "maximum time step");
   positive(s.implicit_tolerance, "implicit solve tolerance");
   positive(s.lagrangian_tolerance, "Lagrangian solve tolerance");
+  if (!(s.lagrangian_gravity_fraction >= 0.0 && s.lagrangian_gravity_fraction < 1.0))
+    throw InputError("hybrid shell: Lagrangian gravity fraction must lie in [0, 1)");
   if (!(s.obstacle_stiffness >= 0.0 && std::isfinite(s.obstacle_stiffness) &&
         s.obstacle_point_stiffness >= 0.0 && std::isfinite(s.obstacle_point_stiffness)))
     throw InputError("hybrid shell: obstacle penalty stiffnesses must be >= 0 and finite");
@@ -369,7 +371,7 @@ void HybridShellDynamics::solveElasticity(double dt) {
   });
   clamps_.placePositions(x);
   ImplicitElasticitySettings es;
-  es.tolerance = settings_.lagrangian_tolerance;
+  es.tolerance = lagrangianTolerance(dt);
   es.max_iterations = settings_.elastic_max_iterations;
   es.reuse_factorization = settings_.reuse_factorization;
   es.history = settings_.elastic_history;
@@ -737,7 +739,7 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
     if (norm(r_warm) < norm(r_free)) v = warm;
   }
   NewtonKrylovSettings ns;
-  ns.tolerance = (contact_only ? settings_.lagrangian_tolerance : settings_.implicit_tolerance) *
+  ns.tolerance = (contact_only ? lagrangianTolerance(dt) : settings_.implicit_tolerance) *
                  std::sqrt(total_mass);
   ns.max_newton_iterations = settings_.max_newton_iterations;
   ns.max_krylov_iterations = settings_.max_krylov_iterations;
@@ -962,6 +964,11 @@ mpm::MotionGroup HybridShellDynamics::motion() const {
              layers_->facesOnOneLayer(control_face_[p], control_face_[q], distance);
     };
   return g;
+}
+
+double HybridShellDynamics::lagrangianTolerance(double dt) const {
+  return std::max(settings_.lagrangian_tolerance,
+                  settings_.lagrangian_gravity_fraction * gravity_.norm() * dt);
 }
 
 double HybridShellDynamics::explicitTimeStep() const {

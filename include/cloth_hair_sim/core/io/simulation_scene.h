@@ -34,7 +34,8 @@ namespace chs {
 //     max_time_step: s                  (backward Euler's longest step, default 1/240)
 //     safety: fraction of the explicit stability bound taken (default 0.5)
 //     cfl: fraction of dx a particle may move in a step (default 0.3)
-//     contact_between_layers_only, cfl_between_layers_only: true | false, flip_blend: 0..1
+//     contact_between_layers_only, cfl_between_layers_only: true | false, flip_blend: 0..1,
+//     lagrangian_tolerance: m/s, lagrangian_gravity_fraction: 0..1
 //                                       (the lagrangian_* steps, HybridShellSettings)
 //     display_segments: n               (limit-surface triangles per face edge in the meshes)
 //   bodies: a list of garments (bodies and hair: at least one in all), each
