@@ -118,8 +118,6 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
                       points_[fibres_[f - 1].first].stencil().points)
       groups_.push_back(f);
   groups_.push_back(static_cast<int>(fibres_.size()));
-  diagonal_block_.resize(n_);
-  for (int p = 0; p < n_; ++p) diagonal_block_[p] = block(p, p);
 
   double volume = 0.0;
   fibre_share_.assign(fibres_.size(), 0.0);

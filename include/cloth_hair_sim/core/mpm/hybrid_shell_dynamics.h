@@ -60,7 +60,7 @@ struct HybridShellSettings {
   // velocity in the step, lagrangian_gravity_fraction |g| dt where it is the larger: the force
   // left unbalanced is then 0.4 % of the weight (RMS) at any step, and a solve at 1/60 s stops at
   // 6.5e-4 m/s, which saved the towel's last Newton iteration in most steps (the node's towel
-  // RTF 0.70-0.83 -> 0.91-1.02, docs/BENCHMARKS.md). 0: lagrangian_tolerance alone.
+  // RTF 0.65-0.83 -> 0.91-1.02, docs/BENCHMARKS.md). 0: lagrangian_tolerance alone.
   double max_time_step = 1.0 / 240.0;
   double implicit_tolerance = 1e-5;
   double lagrangian_tolerance = 1e-4;

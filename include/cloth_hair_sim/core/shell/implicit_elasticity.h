@@ -186,8 +186,7 @@ class ImplicitElasticity {
   // Runs of consecutive fibres over the same stencil points (a face's): fibres groups_[g] to
   // groups_[g + 1] - 1.
   std::vector<int> groups_;
-  std::vector<int> diagonal_block_;  // of each point's owner row
-  std::vector<int> value_index_;     // 9 per block: its entries' places in matrix_.valuePtr()
+  std::vector<int> value_index_;  // 9 per block: its entries' places in matrix_.valuePtr()
   Eigen::SparseMatrix<double> matrix_;
   struct Factor;
   std::unique_ptr<Factor> factor_;
