@@ -143,16 +143,36 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
   perm = Factor::Ordering().of(matrix_);
   std::vector<int> position(3 * n_);  // of each unknown in the factorised order
   for (int k = 0; k < 3 * n_; ++k) position[perm[k]] = k;
-  for (auto& t : triplets) t = Eigen::Triplet<double>(position[t.row()], position[t.col()], 0.0);
-  matrix_.setFromTriplets(triplets.begin(), triplets.end());
-  value_index_.resize(9 * static_cast<std::size_t>(nb));
+  // The lower triangle in that order alone, from the blocks (r, c <= r): entry (i, j) of block
+  // (r, c) lands where its row comes after its column, else on its mirror (the same value); a
+  // diagonal block's entry above the diagonal is left to its mirror in the block (index -1).
+  value_index_.assign(9 * static_cast<std::size_t>(nb), -1);
+  triplets.clear();
+  auto lower = [&](int r, int c, int i, int j) {
+    const int row = position[3 * r + i], col = position[3 * c + j];
+    return row >= col ? std::pair<int, int>(row, col) : std::pair<int, int>(col, row);
+  };
+  auto kept = [&](int r, int c, int i, int j) {
+    return r != c || position[3 * r + i] >= position[3 * c + j];
+  };
   for (int r = 0; r < n_; ++r)
-    for (int b = block_start_[r]; b < block_start_[r + 1]; ++b)
+    for (int b = block_start_[r]; b < block_start_[r + 1] && block_col_[b] <= r; ++b)
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-          value_index_[9 * b + 3 * i + j] = static_cast<int>(
-              &matrix_.coeffRef(position[3 * r + i], position[3 * block_col_[b] + j]) -
-              matrix_.valuePtr());
+          if (kept(r, block_col_[b], i, j)) {
+            const auto [row, col] = lower(r, block_col_[b], i, j);
+            triplets.emplace_back(row, col, 0.0);
+          }
+  matrix_.setFromTriplets(triplets.begin(), triplets.end());
+  for (int r = 0; r < n_; ++r)
+    for (int b = block_start_[r]; b < block_start_[r + 1] && block_col_[b] <= r; ++b)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (kept(r, block_col_[b], i, j)) {
+            const auto [row, col] = lower(r, block_col_[b], i, j);
+            value_index_[9 * b + 3 * i + j] =
+                static_cast<int>(&matrix_.coeffRef(row, col) - matrix_.valuePtr());
+          }
 }
 
 ImplicitElasticity::~ImplicitElasticity() = default;
@@ -330,17 +350,20 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
     const int* slot = &slot_[slot_start_[first]];
     for (int k = 0; k < S; ++k) {
       const int pk = points[k];
-      // Block (l, k) is block (k, l) transposed: half the pairs suffice.
+      // Block (l, k) is block (k, l) transposed: half the pairs suffice, each summed into the
+      // block of the lower block triangle, (owner[pk], owner[pl]) or its transpose.
       for (int l = 0; l <= k; ++l) {
         Mat3 B = K.block(k, l);
         const int pl = points[l];
         if (owner[pk] != pk) B = links_.map[pk].transpose() * B;
         if (owner[pl] != pl) B = B * links_.map[pl];
-        double* dst = &v[9 * static_cast<std::size_t>(slot[k * S + l])];
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) dst[3 * i + j] += B(i, j);
-        if (l == k) continue;
-        dst = &v[9 * static_cast<std::size_t>(slot[l * S + k])];
+        if (owner[pk] >= owner[pl]) {
+          double* dst = &v[9 * static_cast<std::size_t>(slot[k * S + l])];
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) dst[3 * i + j] += B(i, j);
+        }
+        if (owner[pk] > owner[pl] || l == k) continue;
+        double* dst = &v[9 * static_cast<std::size_t>(slot[l * S + k])];
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) dst[3 * i + j] += B(j, i);
       }
@@ -364,7 +387,7 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
   double* a = matrix_.valuePtr();
   tbb::parallel_for(tbb::blocked_range<int>(0, n_), [&](const tbb::blocked_range<int>& rows) {
     for (int r = rows.begin(); r < rows.end(); ++r)
-      for (int b = block_start_[r]; b < block_start_[r + 1]; ++b) {
+      for (int b = block_start_[r]; b < block_start_[r + 1] && block_col_[b] <= r; ++b) {
         const int c = block_col_[b];
         double B[9] = {};
         if (r == c)
@@ -376,8 +399,9 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
           }
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j)
-            a[value_index_[9 * b + 3 * i + j]] =
-                held[3 * r + i] || held[3 * c + j] ? (r == c && i == j ? 1.0 : 0.0) : B[3 * i + j];
+            if (const int e = value_index_[9 * b + 3 * i + j]; e >= 0)
+              a[e] = held[3 * r + i] || held[3 * c + j] ? (r == c && i == j ? 1.0 : 0.0)
+                                                        : B[3 * i + j];
       }
   });
   const auto assembled = std::chrono::steady_clock::now();

@@ -186,7 +186,9 @@ class ImplicitElasticity {
   // Runs of consecutive fibres over the same stencil points (a face's): fibres groups_[g] to
   // groups_[g + 1] - 1.
   std::vector<int> groups_;
-  std::vector<int> value_index_;  // 9 per block: its entries' places in matrix_.valuePtr()
+  // 9 per block (r, c <= r): its entries' places in matrix_.valuePtr(), the lower triangle in
+  // CHOLMOD's order (-1: a diagonal block's entry left to its mirror).
+  std::vector<int> value_index_;
   Eigen::SparseMatrix<double> matrix_;
   struct Factor;
   std::unique_ptr<Factor> factor_;
