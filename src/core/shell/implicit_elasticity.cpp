@@ -148,31 +148,20 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
   // diagonal block's entry above the diagonal is left to its mirror in the block (index -1).
   value_index_.assign(9 * static_cast<std::size_t>(nb), -1);
   triplets.clear();
-  auto lower = [&](int r, int c, int i, int j) {
-    const int row = position[3 * r + i], col = position[3 * c + j];
-    return row >= col ? std::pair<int, int>(row, col) : std::pair<int, int>(col, row);
-  };
-  auto kept = [&](int r, int c, int i, int j) {
-    return r != c || position[3 * r + i] >= position[3 * c + j];
-  };
+  std::vector<int> entry;  // the value slot 9 b + 3 i + j of each triplet
   for (int r = 0; r < n_; ++r)
     for (int b = block_start_[r]; b < block_start_[r + 1] && block_col_[b] <= r; ++b)
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          if (kept(r, block_col_[b], i, j)) {
-            const auto [row, col] = lower(r, block_col_[b], i, j);
-            triplets.emplace_back(row, col, 0.0);
-          }
+        for (int j = 0; j < 3; ++j) {
+          const int row = position[3 * r + i], col = position[3 * block_col_[b] + j];
+          if (block_col_[b] == r && row < col) continue;
+          triplets.emplace_back(std::max(row, col), std::min(row, col), 0.0);
+          entry.push_back(9 * b + 3 * i + j);
+        }
   matrix_.setFromTriplets(triplets.begin(), triplets.end());
-  for (int r = 0; r < n_; ++r)
-    for (int b = block_start_[r]; b < block_start_[r + 1] && block_col_[b] <= r; ++b)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          if (kept(r, block_col_[b], i, j)) {
-            const auto [row, col] = lower(r, block_col_[b], i, j);
-            value_index_[9 * b + 3 * i + j] =
-                static_cast<int>(&matrix_.coeffRef(row, col) - matrix_.valuePtr());
-          }
+  for (std::size_t t = 0; t < triplets.size(); ++t)
+    value_index_[entry[t]] = static_cast<int>(
+        &matrix_.coeffRef(triplets[t].row(), triplets[t].col()) - matrix_.valuePtr());
 }
 
 ImplicitElasticity::~ImplicitElasticity() = default;
