@@ -688,6 +688,22 @@ void HybridShellDynamics::dampGridMomentum(double dt) {
 // conditions follow the solve, as in the explicit step. A solve that stops short of its
 // tolerance keeps its last iterate (lastImplicitSolve() says so; the caller's checks decide).
 void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
+  if (contact_only && contactFree()) {
+    // No fibre carries contact (each is its surface normal, whose contact energy and force
+    // vanish) and no solid: r(v) = m (v - v~) is zero at the transferred velocities, which the
+    // solve would return unchanged after three evaluations of the fibres (two for its warm
+    // start). The grid keeps its velocities, the fibres move with the surface (F = I), and the
+    // next solve starts cold, as it would from the zero change this one leaves.
+    std::fill(control_force_.begin(), control_force_.end(), Vec3::Zero());
+    std::fill(contact_.fibre_force.begin(), contact_.fibre_force.end(), Vec3::Zero());
+    fibre_gradient_.assign(contact_.size(), Eigen::Matrix3d::Zero());
+    last_contact_nodes_.clear();
+    last_contact_change_.clear();
+    last_solve_ = NewtonKrylovResult();
+    last_solve_.status = NewtonKrylovStatus::kConverged;
+    mpm::applyGridColliders(grid_, grid_colliders_, &collider_impulse_);
+    return;
+  }
   if (!contact_only) dampGridMomentum(dt);
   const Vec3 g = contact_only ? Vec3::Zero() : gravity_;
   std::vector<int> node;
@@ -759,7 +775,6 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
     grid_.momentum[i] = grid_.mass[i] * node_velocity[i];
   }
   if (contact_only) {
-    fibre_field_velocity_ = node_velocity;
     last_contact_nodes_.clear();
     last_contact_change_.resize(n);
     for (int k = 0; k < n; ++k)
@@ -775,7 +790,7 @@ void HybridShellDynamics::solveGridMomentum(double dt, bool contact_only) {
 void HybridShellDynamics::transferToParticles(double dt) {
   // The fibres' map I + dt grad(S v) (carriedVelocity), taken before the transfers move the
   // particles off the positions their supports were recorded at. The Lagrangian step's contact
-  // solve left it at its solution, fibre_field_velocity_ (solveGridMomentum).
+  // solve left it at its solution (solveGridMomentum).
   if (!lagrangian()) {
     carriedVelocity(grid_.velocity, fibre_velocity_);
     mpm::interpolateMassSupportedGradient(grid_, fibre_velocity_, supports_[1],
@@ -964,6 +979,11 @@ mpm::MotionGroup HybridShellDynamics::motion() const {
              layers_->facesOnOneLayer(control_face_[p], control_face_[q], distance);
     };
   return g;
+}
+
+bool HybridShellDynamics::contactFree() const {
+  return solid_.size() == 0 && !near_layer_.empty() &&
+         std::none_of(near_layer_.begin(), near_layer_.end(), [](char near) { return near; });
 }
 
 double HybridShellDynamics::lagrangianTolerance(double dt) const {

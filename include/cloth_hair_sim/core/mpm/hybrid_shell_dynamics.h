@@ -369,9 +369,6 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   std::vector<double> transfer_mass_;           // masses the grid sees (pinned, clamped: none)
   // Fibre velocity field S v, its gradient at the contact particles, and scratch for P(.).
   std::vector<Eigen::Vector3d> fibre_velocity_, projected_, shell_node_force_;
-  // The Lagrangian step's fibres move with the grid's solution before the obstacles' conditions
-  // (transferToParticles).
-  std::vector<Eigen::Vector3d> fibre_field_velocity_;
   // The Lagrangian step's contact solve starts from the change its last solution made at each
   // node (where that node is active again): on a resting cloth that change is the same every step
   // (docs/BENCHMARKS.md, 2026-12-07). Solver state, not model state: a snapshot does not keep it.
@@ -416,6 +413,9 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   std::vector<int> control_face_;
   std::vector<char> pic_nodes_;  // per grid node: the grid stage changed its velocity
   bool fibreInContact(int p) const { return near_layer_.empty() || near_layer_[p]; }
+  // No fibre carries contact this step and no solid shares the grid: the contact solve has
+  // nothing to solve.
+  bool contactFree() const;
   ImplicitElasticityResult last_elastic_;
   std::vector<Eigen::Vector3d> lagrangian_velocity_, elastic_force_, transferred_velocity_,
       transferred_at_particles_;
