@@ -505,9 +505,12 @@ void HybridShellDynamics::transferToGrid() {
   mpm::particleToGrid({&control_, &contact_.p, &solid_}, grid_, settings_.kernel_degree,
                       &supports_);
   std::swap(control_.mass, transfer_mass_);
-  mpm::tabulateMassSupportedGradients(grid_, contact_.p.x, settings_.kernel_degree, supports_[1],
-                                      fibre_weight_gradients_);
   if (layers_) layers_->find(grid_, supports_[1], contact_.p.x, near_layer_);
+  // The fibres' weight gradients serve their forces and their velocity gradient, which a step
+  // with no fibre in contact does without (solveGridMomentum).
+  if (!(lagrangian() && contactFree()))
+    mpm::tabulateMassSupportedGradients(grid_, contact_.p.x, settings_.kernel_degree, supports_[1],
+                                        fibre_weight_gradients_);
   if (lagrangian() && settings_.flip_blend > 0.0) transferred_velocity_ = grid_.velocity;
 }
 
