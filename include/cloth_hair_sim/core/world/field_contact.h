@@ -21,7 +21,9 @@ namespace chs {
 // Contact is speculative: b may approach r at w = (v_b - v_r) . n no faster than (d - delta) /
 // dt, so that the two come no closer than the contact distance delta within the step and no
 // layer passes another between two grid updates; closer than 1.5 delta the contact is closed
-// (no approach at all), so that a resting layer gets its impulse every step. The excess dw is
+// (no approach at all), so that a resting layer gets its impulse every step, and closer than
+// delta the two separate at a fifth of (delta - d) / dt, so that a resting layer's gap does not
+// drift shut by round-off and interpolation a little each step. The excess dw is
 // removed by the normal impulse J_n = mu_r dw (mu_r = m_b m_r / (m_b + m_r)), and the tangential
 // relative velocity v_t by a Coulomb impulse of at most friction J_n (stick when that stops it).
 // All changes are computed from the velocities before the stage and then applied; between two
