@@ -5,7 +5,8 @@
 # one), rosbag records markers, tf, joint states and status, and rviz screenshots are saved as
 # PNG. Every node runs on the simulator's clock, so the motion keeps pace with the simulation
 # (the bag's times are simulated seconds). CONFIG: a node configuration instead of
-# config/default.yaml. Prints a summary: real-time factor, deepest penetration into the
+# config/default.yaml. REALTIME=1: garments on the Lagrangian implicit step at 1/60 s substeps
+# (launch argument realtime). Prints a summary: real-time factor, deepest penetration into the
 # mannequin over the whole run.
 # Usage: scripts/demo.sh [out_dir] [build_dir]
 set -euo pipefail
@@ -16,6 +17,7 @@ MOTION="${MOTION:-arms_raise}"
 HAIR="${HAIR:-0}"
 HAIR_GUIDES="${HAIR_GUIDES:-80}"
 CONFIG="${CONFIG:-}"  # a node configuration instead of config/default.yaml
+if [ "${REALTIME:-0}" = 1 ]; then REALTIME_ARG=true; else REALTIME_ARG=false; fi
 if [ "$HAIR" = 1 ]; then
   GARMENT="${GARMENT:-none}"
   HAIR_ARG=true
@@ -50,6 +52,7 @@ echo "demo: ${DURATION} s of '$MOTION' with a $GARMENT, hair $HAIR_ARG ($HAIR_GU
   "Xvfb $DISPLAY_NUM (log: $LOG)"
 roslaunch cloth_hair_sim demo.launch rviz:=true record:=true bag:="$BAG" duration:="$DURATION" \
   garment:="$GARMENT" motion:="$MOTION" hair:="$HAIR_ARG" hair_guides:="$HAIR_GUIDES" \
+  realtime:="$REALTIME_ARG" \
   ${CONFIG:+config:="$(realpath "$CONFIG")"} >"$LOG" 2>&1 &
 launch_pid=$!
 pids+=("$launch_pid")
