@@ -512,9 +512,9 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     // The CFL step varies a little from step to step: a factor of a step within 25 % still
     // serves (its mass term is off by less than the stiffness it lags by). In Newton mode the
     // second iteration runs on the first one's factor with its secant pair: on the swinging
-    // towel the second iteration's exact step left the residual where it was or raised it in
-    // every traced step (3.6e-3 -> 3.7e-3, 1.3e-2 -> 6.9e-2 m/s: the soft modes' correction),
-    // and the third converged quadratically from there either way (docs/BENCHMARKS.md).
+    // towel the second iteration's exact step left the residual where it was or raised it in 8
+    // of 9 traced solves (3.6e-3 -> 3.7e-3, 1.3e-2 -> 6.9e-2 m/s: the soft modes' correction;
+    // one fell 5 times), and the third converged quadratically from there (docs/BENCHMARKS.md).
     const bool newton_refresh = newton_ && result.iterations != 1;
     bool fresh = !factored_ || !s.reuse_factorization || std::abs(dt / factored_dt_ - 1.0) > 0.25 ||
                  free != factored_free_ || (stale && ratio > s.refresh_ratio) || newton_refresh;
