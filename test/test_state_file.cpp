@@ -73,6 +73,7 @@ void expectIdenticalContinuation(ClothDynamics& original, ClothDynamics& restore
                                  const char* name) {
   const std::string path = ::testing::TempDir() + "/chs_state_" + name + ".chs";
   writeStateFile(path, stateOf(original));
+  original.dropSolverCaches();
   StateReader in(readStateFile(path), path);
   restored.readState(in);
   in.expectEnd();
@@ -119,6 +120,21 @@ TEST_F(StateFile, HybridShellContinuesBitForBit) {
   EXPECT_GT(maxDifference(twin.positions(), original.positions()), 1e-9);
   HybridShellDynamics restored(p, plasticShell());
   expectIdenticalContinuation(original, restored, dt, "hybrid_shell");
+}
+
+// The Lagrangian step keeps solver caches between steps (the kept factor, quasi-Newton pairs,
+// warm starts); a save drops them (ClothDynamics::dropSolverCaches), so that the saved run and
+// its reload continue from the same start.
+TEST_F(StateFile, LagrangianHybridShellContinuesBitForBit) {
+  const DrapeProblem p = hangingSquare(6, testCloth());
+  HybridShellSettings s = plasticShell();
+  s.integration = TimeIntegration::kLagrangianImplicit;
+  HybridShellDynamics original(p, s);
+  original.setColliders(floorSurface());
+  const double dt = 1.0 / 240.0;
+  stepWithMovingPin(original, 60, dt);
+  HybridShellDynamics restored(p, s);
+  expectIdenticalContinuation(original, restored, dt, "hybrid_shell_lagrangian");
 }
 
 TEST_F(StateFile, ParticleNetworkContinuesBitForBit) {

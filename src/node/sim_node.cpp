@@ -1286,6 +1286,8 @@ bool SimNode::saveState(cloth_hair_sim::StateFile::Request& req,
     payload = encodeSimulation(params_.dynamics_backend,
                                {sim_time_, steps_, paused_, rollbacks_, unconverged_solves_},
                                garments_, grasps_, hairs_, hair_grasps_);
+    // The saved run goes on from the same start as a reload of it will.
+    for (auto& [name, g] : garments_) g.dynamics->dropSolverCaches();
     summary = std::to_string(garments_.size()) + " garments, " + std::to_string(hairs_.size()) +
               " hair, " + std::to_string(grasps_.size() + hair_grasps_.size()) +
               " grasps at sim time " + std::to_string(sim_time_) + " s";

@@ -1207,6 +1207,12 @@ void HybridShellDynamics::writeState(StateWriter& out) const {
   out.real(time_);
 }
 
+void HybridShellDynamics::dropSolverCaches() {
+  if (elasticity_) elasticity_->invalidate();
+  last_contact_nodes_.clear();
+  last_contact_change_.clear();
+}
+
 void HybridShellDynamics::readState(StateReader& in) {
   in.expectText("hybrid shell", "dynamics backend");
   const std::size_t nc = control_.x.size(), np = contact_.p.x.size();

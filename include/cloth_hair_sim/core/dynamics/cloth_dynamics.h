@@ -81,12 +81,16 @@ class ClothDynamics {
   virtual void restore(const DynamicsSnapshot& snapshot) = 0;
   // The whole dynamic state (what snapshot() holds, the pins and their targets, the time) as
   // records, for a state file; readState takes it into a backend built from the same problem
-  // and settings, which then steps on bit for bit as the saved one would have (colliders are
-  // the caller's: set them again). readState throws InputError for a record of another backend,
-  // a count that does not match this model or a truncated record, and then leaves the state as
-  // it was.
+  // and settings, which then steps on bit for bit as the saved one would have after
+  // dropSolverCaches (colliders are the caller's: set them again). readState throws InputError
+  // for a record of another backend, a count that does not match this model or a truncated
+  // record, and then leaves the state as it was.
   virtual void writeState(StateWriter& out) const = 0;
   virtual void readState(StateReader& in) = 0;
+  // What the solvers carry from step to step to start faster (a kept factorisation,
+  // quasi-Newton pairs, warm starts) is not state: a save calls this after writeState, so that
+  // the saved run and a reload of it continue from the same start.
+  virtual void dropSolverCaches() {}
 
   virtual DisplaySurface displaySurface() const = 0;
 };

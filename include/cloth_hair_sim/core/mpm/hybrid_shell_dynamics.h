@@ -221,6 +221,7 @@ class HybridShellDynamics : public ClothDynamics, public Body {
                     const std::vector<SurfaceVelocity>& velocities = {},
                     const std::vector<double>& frictions = {}) override;
   const RigidSurfaces& colliders() const override { return surfaces_; }
+  void dropSolverCaches() override;
 
   void pin(int vertex) override;
   void pin(int vertex, const Eigen::Vector3d& target) override;

@@ -137,10 +137,11 @@ class ImplicitElasticity {
   // returned iterate.
   const std::vector<Eigen::Vector3d>& obstacleGradient() const { return obstacle_gradient_; }
   const std::vector<ObstaclePush>& obstaclePushes() const { return pushes_; }
-  // Forget the factorisation and the contacts' normal forces (the material, the plastic state or
-  // the positions changed).
+  // Forget the factorisation, the Newton mode and the contacts' normal forces (the material,
+  // the plastic state or the positions changed; a saved state restarts from here).
   void invalidate() {
     factored_ = false;
+    newton_ = false;
     pair_s_.clear();
     pair_y_.clear();
     normal_force_.clear();
