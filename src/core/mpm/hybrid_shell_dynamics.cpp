@@ -18,6 +18,7 @@
 #include "cloth_hair_sim/core/mesh/mesh_check.h"
 #include "cloth_hair_sim/core/mpm/bdf2.h"
 #include "cloth_hair_sim/core/mpm/bspline_kernel.h"
+#include "cloth_hair_sim/core/mpm/collider_candidates.h"
 #include "cloth_hair_sim/core/mpm/elastic_solid.h"
 #include "cloth_hair_sim/core/mpm/grid_forces.h"
 #include "cloth_hair_sim/core/mpm/grid_interpolation.h"
@@ -384,9 +385,11 @@ void HybridShellDynamics::solveElasticity(double dt) {
   const double beta = settings_.obstacle_stiffness + settings_.obstacle_point_stiffness;
   es.obstacles.rise = (beta > 0.0 ? 2.0 * gravity_.norm() * dt * dt / beta : 0.0) + 1e-2 * dt;
   // Each obstacle where it will be at the step's end: a point x then is where x - dt v(x) is now.
-  es.obstacles.nearest = [this, dt](const Vec3& x) {
+  // The solve uses only obstacles nearer than the offset: those a cell's list holds.
+  const mpm::ColliderCandidates candidates(grid_colliders_, dt, settings_.obstacle_offset, dx_);
+  es.obstacles.nearest = [this, dt, &candidates](const Vec3& x) {
     ObstacleQuery nearest;
-    for (std::size_t k = 0; k < grid_colliders_.size(); ++k) {
+    for (int k : candidates.near(x)) {
       const mpm::GridCollider& c = grid_colliders_[k];
       const Vec3 v = c.velocity.at(x);
       const SurfaceProjection q = c.surface->project(x - dt * v);

@@ -50,7 +50,9 @@ struct ObstacleQuery {
 // and IPC's semidefinite friction matrix, spread over the stencil (the surface's curvature term,
 // negative semidefinite on convex obstacles, is left out: the matrix stays SPD).
 struct ObstaclePenalty {
-  // Where each obstacle will be at the step's end. Called from several threads at once.
+  // The nearest obstacle to x where each will be at the step's end; only one nearer than
+  // `offset` is used, so farther ones may be left out (obstacle -1). Called from several threads
+  // at once.
   std::function<ObstacleQuery(const Eigen::Vector3d& x)> nearest;
   const std::vector<Eigen::Vector3d>* start = nullptr;  // control points at the step's start
   double offset = 0.0;                                  // [m]

@@ -1,0 +1,120 @@
+// The colliders a point may be near (mpm/collider_candidates.h): a point's nearest collider
+// within reach, found among its cell's candidates, is the one a search of every collider finds,
+// for still, sliding and turning colliders, and from several threads at once.
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
+
+#include "cloth_hair_sim/core/contact/capsule_surface.h"
+#include "cloth_hair_sim/core/contact/posed_surface.h"
+#include "cloth_hair_sim/core/mpm/collider_candidates.h"
+
+namespace chs::mpm {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+struct Nearest {
+  int collider = -1;
+  double gap = 0.0;
+};
+
+// The nearest collider within reach of x at the step's end among `which` (-1: none).
+Nearest nearestOf(const std::vector<GridCollider>& colliders, const std::vector<int>& which,
+                  const Vec3& x, double dt, double reach) {
+  Nearest n;
+  for (int k : which) {
+    const GridCollider& c = colliders[k];
+    const double gap = c.surface->project(x - dt * c.velocity.at(x)).gap;
+    if (gap < reach && (n.collider < 0 || gap < n.gap)) n = {k, gap};
+  }
+  return n;
+}
+
+// A limb-like scene: 18 capsules (two of them posed boxes) over a 1 m cube, some sliding and
+// turning as the mannequin's limbs do.
+std::vector<GridCollider> limbs() {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
+  std::vector<GridCollider> colliders;
+  for (int k = 0; k < 16; ++k) {
+    GridCollider c;
+    const Vec3 a(u(rng), u(rng), u(rng)), b = a + 0.3 * Vec3(s(rng), s(rng), s(rng));
+    c.surface = std::make_shared<CapsuleSurface>(a, b, 0.02 + 0.05 * u(rng));
+    if (k % 3 == 0) c.velocity.linear = Vec3(s(rng), s(rng), s(rng));
+    if (k % 4 == 0) {
+      c.velocity.angular = 6.0 * Vec3(s(rng), s(rng), s(rng));
+      c.velocity.origin = a;
+    }
+    colliders.push_back(c);
+  }
+  for (int k = 0; k < 2; ++k) {
+    GridCollider c;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.rotate(Eigen::AngleAxisd(0.7 + k, Vec3(1, 2, 3).normalized()));
+    pose.translation() = Vec3(u(rng), u(rng), u(rng));
+    c.surface = std::make_shared<PosedSurface>(
+        std::make_shared<BoxSurface>(Vec3::Zero(), Vec3(0.1, 0.2, 0.05)), pose);
+    c.velocity.angular = Vec3(0.0, 0.0, 3.0);
+    c.velocity.origin = pose.translation();
+    colliders.push_back(c);
+  }
+  return colliders;
+}
+
+TEST(MpmColliderCandidates, NearestWithinReachAsAFullSearch) {
+  const std::vector<GridCollider> colliders = limbs();
+  std::vector<int> every;
+  for (std::size_t k = 0; k < colliders.size(); ++k) every.push_back(static_cast<int>(k));
+  const double dt = 1.0 / 60.0;
+  // Points near the surfaces (where it matters) and anywhere in the cube.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.2, 1.2), small(-0.004, 0.004);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 20000; ++i) points.emplace_back(u(rng), u(rng), u(rng));
+  for (std::size_t k = 0; k < colliders.size(); ++k)
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3 x(u(rng), u(rng), u(rng));
+      const GridCollider& c = colliders[k];
+      const SurfaceProjection p = c.surface->project(x);
+      // On the surface where it will be at the step's end, give or take 4 mm.
+      const Vec3 on = x - p.gap * p.normal;
+      points.push_back(on + dt * c.velocity.at(on) + Vec3(small(rng), small(rng), small(rng)));
+    }
+  for (double reach : {1e-3, 5e-3}) {
+    for (double cell : {0.01, 0.04, 0.1}) {
+      const ColliderCandidates candidates(colliders, dt, reach, cell);
+      std::vector<Nearest> fast(points.size());
+      std::vector<std::size_t> listed(points.size());
+      tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+        const std::vector<int>& near = candidates.near(points[i]);
+        listed[i] = near.size();
+        fast[i] = nearestOf(colliders, near, points[i], dt, reach);
+      });
+      int within = 0, wrong = 0;
+      double tested = 0.0;
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        const Nearest full = nearestOf(colliders, every, points[i], dt, reach);
+        within += full.collider >= 0;
+        wrong += full.collider != fast[i].collider || full.gap != fast[i].gap;
+        tested += static_cast<double>(listed[i]);
+      }
+      std::printf(
+          "[figure] collider candidates, reach %.0f mm, cells %.0f mm: %d of %zu points within "
+          "reach of a collider, %d answers differ from the full search; %.2f of %zu colliders "
+          "projected per query\n",
+          1e3 * reach, 1e3 * cell, within, points.size(), wrong, tested / points.size(),
+          colliders.size());
+      EXPECT_GT(within, 10000);
+      EXPECT_EQ(wrong, 0);
+      EXPECT_LT(tested / points.size(), 0.5 * colliders.size());
+    }
+  }
+}
+
+}  // namespace
+}  // namespace chs::mpm
