@@ -162,6 +162,20 @@ class WorldNode(unittest.TestCase):
               'joined at the next substep; %d garments stepping' % (
                   sorted(latencies)[3], max(latencies), deferred, status.garments))
         self.assertEqual(status.garments, 8)
+        # On a loaded machine (a parallel test run) the six can all find the world between
+        # updates: load and remove more until one finds it mid-update.
+        retries = 0
+        while deferred == 0 and retries < 30:
+            retries += 1
+            req = sheet('late', 0.04, 3, 1.0)
+            req.pose.position.x = 0.3
+            req.pose.position.y = 0.3
+            res = self.load(req)
+            self.assertTrue(res.success, res.message)
+            deferred += 'joins the stepping world' in res.message
+            self.assertTrue(self.remove(name='late').success)
+        if retries:
+            print('[figure] node: %d more loads until one joined at the next substep' % retries)
         self.assertGreaterEqual(deferred, 1)
         for name in names:
             res = self.remove(name=name)
