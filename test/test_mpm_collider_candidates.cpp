@@ -1,6 +1,8 @@
 // The colliders a point may be near (mpm/collider_candidates.h): a point's nearest collider
 // within reach, found among its cell's candidates, is the one a search of every collider finds,
-// for still, sliding and turning colliders, and from several threads at once.
+// for still, sliding and turning colliders, and from several threads at once; the grid's
+// obstacle conditions, which ask the lists of blocks of nodes, act as a search of all of them.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <random>
@@ -12,6 +14,7 @@
 #include "cloth_hair_sim/core/contact/capsule_surface.h"
 #include "cloth_hair_sim/core/contact/posed_surface.h"
 #include "cloth_hair_sim/core/mpm/collider_candidates.h"
+#include "cloth_hair_sim/core/mpm/sparse_grid.h"
 
 namespace chs::mpm {
 namespace {
@@ -114,6 +117,54 @@ TEST(MpmColliderCandidates, NearestWithinReachAsAFullSearch) {
       EXPECT_LT(tested / points.size(), 0.5 * colliders.size());
     }
   }
+}
+
+// The grid's conditions (applyGridColliders, which asks the lists of blocks of 4^3 nodes) give
+// every node the velocity and every collider the impulse that applying all 18 in turn gives.
+TEST(MpmColliderCandidates, GridConditionsAsWithEveryCollider) {
+  const std::vector<GridCollider> colliders = limbs();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.1, 1.1), s(-1.0, 1.0);
+  const double dx = 0.01;
+  SparseGrid grid(dx);
+  for (int i = 0; i < 40000; ++i) {
+    const Vec3 x(u(rng), u(rng), u(rng));
+    const int n = grid.activate((x / dx).array().floor().cast<int>().matrix());
+    grid.mass[n] = std::max(0.0, s(rng));  // half of them massless: skipped
+    grid.velocity[n] = Vec3(s(rng), s(rng), s(rng));
+    grid.momentum[n] = grid.mass[n] * grid.velocity[n];
+  }
+  SparseGrid reference = grid;
+  std::vector<ColliderImpulse> expected(colliders.size()), got;
+  int inside = 0;
+  for (int i = 0; i < reference.size(); ++i) {
+    if (reference.mass[i] <= 0.0) continue;
+    const Vec3 x = reference.position(i);
+    for (std::size_t k = 0; k < colliders.size(); ++k) {
+      const GridCollider& c = colliders[k];
+      const SurfaceProjection p = c.surface->project(x);
+      if (p.gap > 0.0) continue;
+      ++inside;
+      const Vec3 vc = c.velocity.at(x), before = reference.momentum[i];
+      reference.velocity[i] = vc + collideRelativeVelocity(reference.velocity[i] - vc, p.normal,
+                                                           c.boundary, c.friction);
+      reference.momentum[i] = reference.mass[i] * reference.velocity[i];
+      expected[k].add(x, reference.momentum[i] - before);
+    }
+  }
+  applyGridColliders(grid, colliders, &got);
+  int differ = 0;
+  for (int i = 0; i < grid.size(); ++i)
+    differ +=
+        grid.velocity[i] != reference.velocity[i] || grid.momentum[i] != reference.momentum[i];
+  for (std::size_t k = 0; k < colliders.size(); ++k)
+    differ += got[k].linear != expected[k].linear || got[k].angular != expected[k].angular;
+  std::printf(
+      "[figure] grid conditions with the lists: %d of %d nodes inside a collider, %d "
+      "velocities or impulses differ from applying every collider\n",
+      inside, grid.size(), differ);
+  EXPECT_GT(inside, 300);
+  EXPECT_EQ(differ, 0);
 }
 
 }  // namespace
