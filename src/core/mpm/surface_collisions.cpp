@@ -14,18 +14,24 @@ namespace {
 constexpr double kLeastFreeShare = 0.5;  // of a sample's weight on points free to move
 }  // namespace
 
-Clearance clearanceOf(const Vec3& x, const std::vector<GridCollider>& colliders) {
+Clearance clearanceOf(const Vec3& x, const std::vector<GridCollider>& colliders,
+                      const std::vector<int>* only, double beyond) {
   Clearance c;
-  c.gap = c.second_gap = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < colliders.size(); ++k) {
+  c.gap = c.second_gap = beyond;
+  const auto add = [&](int k) {
     const double gap = colliders[k].surface->project(x).gap;
     if (gap < c.gap) {
       c.second_gap = c.gap;
       c.gap = gap;
-      c.collider = static_cast<int>(k);
+      c.collider = k;
     } else if (gap < c.second_gap) {
       c.second_gap = gap;
     }
+  };
+  if (only) {
+    for (int k : *only) add(k);
+  } else {
+    for (std::size_t k = 0; k < colliders.size(); ++k) add(static_cast<int>(k));
   }
   return c;
 }

@@ -1,4 +1,5 @@
 #pragma once
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -76,7 +77,11 @@ class SurfaceCollisions {
   std::vector<Eigen::Vector3d> shift_;  // per point, the last apply's move
 };
 
-// The clearance of point x from the colliders.
-Clearance clearanceOf(const Eigen::Vector3d& x, const std::vector<GridCollider>& colliders);
+// The clearance of point x from the colliders: from all of them, or from those `only` lists
+// when every other one is known to be farther than `beyond` (ColliderCandidates); a gap of
+// `beyond` (collider -1) then is a lower bound, which apply() may take as a clearance.
+Clearance clearanceOf(const Eigen::Vector3d& x, const std::vector<GridCollider>& colliders,
+                      const std::vector<int>* only = nullptr,
+                      double beyond = std::numeric_limits<double>::infinity());
 
 }  // namespace chs::mpm
