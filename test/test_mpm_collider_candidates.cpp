@@ -1,7 +1,8 @@
 // The colliders a point may be near (mpm/collider_candidates.h): a point's nearest collider
 // within reach, found among its cell's candidates, is the one a search of every collider finds,
 // for still, sliding and turning colliders, and from several threads at once; the grid's
-// obstacle conditions, which ask the lists of blocks of nodes, act as a search of all of them.
+// obstacle conditions, which ask the lists of blocks of nodes, act as a search of all of them,
+// and so does a strand's obstacle contact, which asks a vertex's list.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -15,6 +16,7 @@
 #include "cloth_hair_sim/core/contact/posed_surface.h"
 #include "cloth_hair_sim/core/mpm/collider_candidates.h"
 #include "cloth_hair_sim/core/mpm/sparse_grid.h"
+#include "cloth_hair_sim/core/rod/obstacle_contact.h"
 
 namespace chs::mpm {
 namespace {
@@ -164,6 +166,56 @@ TEST(MpmColliderCandidates, GridConditionsAsWithEveryCollider) {
       "velocities or impulses differ from applying every collider\n",
       inside, grid.size(), differ);
   EXPECT_GT(inside, 300);
+  EXPECT_EQ(differ, 0);
+}
+
+// A strand's lagged obstacle contacts (rod/obstacle_contact.h) from the lists are those of all
+// 18 obstacles, in the same order, with the same gaps and forces.
+TEST(MpmColliderCandidates, StrandContactsAsWithEveryObstacle) {
+  const std::vector<GridCollider> colliders = limbs();
+  std::vector<rod::StrandObstacle> obstacles;
+  for (const GridCollider& c : colliders) obstacles.push_back({c.surface, c.velocity, 0.3});
+  // Vertices on and near the surfaces, and anywhere in the cube.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.1, 1.1), small(-0.003, 0.003);
+  std::vector<Vec3> x;
+  for (int i = 0; i < 3000; ++i) x.emplace_back(u(rng), u(rng), u(rng));
+  for (const GridCollider& c : colliders)
+    for (int i = 0; i < 300; ++i) {
+      const Vec3 p(u(rng), u(rng), u(rng));
+      const SurfaceProjection q = c.surface->project(p);
+      x.push_back(p - q.gap * q.normal + Vec3(small(rng), small(rng), small(rng)));
+    }
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(4 * static_cast<int>(x.size()) - 1);
+  for (std::size_t i = 0; i < x.size(); ++i) q.segment<3>(4 * i) = x[i];
+  // beyond covers the reach, the contact distance and the obstacles' motion over the step (the
+  // limbs' fastest surface points move 0.03 m in it), so every vertex asks its list.
+  const double dt = 1.0 / 600.0, reach = 0.004, beyond = 0.04;
+  rod::ObstacleContactSettings settings;
+  rod::ObstacleContact all(obstacles, settings, 4e-5, dt, x),
+      listed(obstacles, settings, 4e-5, dt, x);
+  const ColliderCandidates near(colliders, 0.0, beyond, 0.04);
+  listed.setNearObstacles([&](const Vec3& p) -> const std::vector<int>& { return near.near(p); },
+                          beyond);
+  all.updateLag(q, reach, {});
+  listed.updateLag(q, reach, {});
+  // The lists are what the vertices ask: empty ones find no contact.
+  rod::ObstacleContact none(obstacles, settings, 4e-5, dt, x);
+  const std::vector<int> nothing;
+  none.setNearObstacles([&](const Vec3&) -> const std::vector<int>& { return nothing; }, beyond);
+  none.updateLag(q, reach, {});
+  EXPECT_TRUE(none.empty());
+  const auto& a = all.contacts();
+  const auto& b = listed.contacts();
+  int differ = a.size() == b.size() ? 0 : 1;
+  for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k)
+    differ += a[k].vertex != b[k].vertex || a[k].obstacle != b[k].obstacle ||
+              a[k].gap != b[k].gap || a[k].normal_force != b[k].normal_force;
+  std::printf(
+      "[figure] strand obstacle contacts with the lists: %zu contacts of %zu vertices, %d "
+      "differ from asking all 18 obstacles\n",
+      a.size(), x.size(), differ);
+  EXPECT_GT(a.size(), 1000u);
   EXPECT_EQ(differ, 0);
 }
 

@@ -32,7 +32,16 @@ double ObstacleContact::updateLag(const Eigen::VectorXd& q, double reach,
   for (int i = 0; i < static_cast<int>(x_start_.size()); ++i) {
     if (!skip.empty() && skip[i]) continue;
     const Vec3 x = vertex(q, i);
-    for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
+    const std::vector<int>* near = nullptr;
+    if (near_) {
+      double move = 0.0;  // the farthest an obstacle's surface moves towards x over the step
+      for (const StrandObstacle& o : obstacles_)
+        move = std::max(move, dt_ * o.velocity.at(x_start_[i]).norm());
+      if (distance_ + reach + move <= near_beyond_) near = &near_(x);
+    }
+    const int count = near ? static_cast<int>(near->size()) : static_cast<int>(obstacles_.size());
+    for (int j = 0; j < count; ++j) {
+      const int o = near ? (*near)[j] : j;
       LaggedContact c;
       c.vertex = i;
       c.obstacle = o;

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "cloth_hair_sim/core/dynamics/holding_wrench.h"
+#include "cloth_hair_sim/core/mpm/collider_candidates.h"
 #include "cloth_hair_sim/core/mpm/drucker_prager.h"
 #include "cloth_hair_sim/core/mpm/grid_collider.h"
 #include "cloth_hair_sim/core/mpm/hencky_solid.h"
@@ -273,6 +274,10 @@ class HairDynamics : public Body {
   RigidSurfaces surfaces_;
   std::vector<mpm::GridCollider> colliders_;
   std::vector<StrandObstacle> obstacles_;  // the same, for the strands' implicit solves
+  // During beginStep, with more than two colliders: those near each point, every other farther
+  // than near_reach_ (the strands' obstacle contact asks those alone).
+  const mpm::ColliderCandidates* near_obstacles_ = nullptr;
+  double near_reach_ = 0.0;
   std::vector<mpm::ColliderImpulse> collider_impulse_;
   // Per strand, per collider (strand k's impulse on collider c at k * colliders + c).
   std::vector<mpm::ColliderImpulse> strand_grid_impulse_;

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -89,6 +90,15 @@ class ObstacleContact {
   // relaxed towards the new one (see ObstacleContactSettings::lag_passes). Returns the largest
   // change of a normal force, unrelaxed, relative to the largest normal force (0 without any).
   double updateLag(const Eigen::VectorXd& q, double reach, const std::vector<char>& skip);
+  // With many obstacles: those near a point (their indices, ascending) with every other farther
+  // than `beyond` from it now (mpm::ColliderCandidates over the same obstacles); a vertex then
+  // asks those alone while reach, the contact distance and the obstacle's motion over the step
+  // fit within `beyond`.
+  void setNearObstacles(std::function<const std::vector<int>&(const Eigen::Vector3d&)> near,
+                        double beyond) {
+    near_ = std::move(near);
+    near_beyond_ = beyond;
+  }
   const std::vector<LaggedContact>& contacts() const { return contacts_; }
   bool empty() const { return contacts_.empty(); }
 
@@ -111,6 +121,8 @@ class ObstacleContact {
   ObstacleContactSettings settings_;
   double distance_, dt_;
   std::vector<Eigen::Vector3d> x_start_;
+  std::function<const std::vector<int>&(const Eigen::Vector3d&)> near_;
+  double near_beyond_ = 0.0;
   std::vector<LaggedContact> contacts_;
 };
 
