@@ -25,6 +25,16 @@ ObstacleContact::ObstacleContact(const std::vector<StrandObstacle>& obstacles,
       dt_(dt),
       x_start_(x_start) {}
 
+void ObstacleContact::setNearObstacles(
+    std::function<const std::vector<int>&(const Eigen::Vector3d&)> near, double beyond) {
+  near_ = std::move(near);
+  near_beyond_ = beyond;
+  near_move_.assign(x_start_.size(), 0.0);
+  for (std::size_t i = 0; i < x_start_.size(); ++i)
+    for (const StrandObstacle& o : obstacles_)
+      near_move_[i] = std::max(near_move_[i], dt_ * o.velocity.at(x_start_[i]).norm());
+}
+
 double ObstacleContact::updateLag(const Eigen::VectorXd& q, double reach,
                                   const std::vector<char>& skip) {
   std::vector<LaggedContact> previous;
@@ -33,12 +43,7 @@ double ObstacleContact::updateLag(const Eigen::VectorXd& q, double reach,
     if (!skip.empty() && skip[i]) continue;
     const Vec3 x = vertex(q, i);
     const std::vector<int>* near = nullptr;
-    if (near_) {
-      double move = 0.0;  // the farthest an obstacle's surface moves towards x over the step
-      for (const StrandObstacle& o : obstacles_)
-        move = std::max(move, dt_ * o.velocity.at(x_start_[i]).norm());
-      if (distance_ + reach + move <= near_beyond_) near = &near_(x);
-    }
+    if (near_ && distance_ + reach + near_move_[i] <= near_beyond_) near = &near_(x);
     const int count = near ? static_cast<int>(near->size()) : static_cast<int>(obstacles_.size());
     for (int j = 0; j < count; ++j) {
       const int o = near ? (*near)[j] : j;

@@ -95,10 +95,7 @@ class ObstacleContact {
   // asks those alone while reach, the contact distance and the obstacle's motion over the step
   // fit within `beyond`.
   void setNearObstacles(std::function<const std::vector<int>&(const Eigen::Vector3d&)> near,
-                        double beyond) {
-    near_ = std::move(near);
-    near_beyond_ = beyond;
-  }
+                        double beyond);
   const std::vector<LaggedContact>& contacts() const { return contacts_; }
   bool empty() const { return contacts_.empty(); }
 
@@ -123,6 +120,7 @@ class ObstacleContact {
   std::vector<Eigen::Vector3d> x_start_;
   std::function<const std::vector<int>&(const Eigen::Vector3d&)> near_;
   double near_beyond_ = 0.0;
+  std::vector<double> near_move_;  // per vertex, the most an obstacle moves at it over the step
   std::vector<LaggedContact> contacts_;
 };
 
