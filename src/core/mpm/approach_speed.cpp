@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <optional>
 #include <unordered_map>
 
 #include <tbb/blocked_range.h>
@@ -41,26 +40,21 @@ Eigen::Vector3i cellOf(const Vec3& x, double cell) {
 double colliderApproach(const MotionGroup& g, const std::vector<GridCollider>& colliders,
                         double support, double longest_step) {
   if (colliders.empty()) return 0.0;
-  // With many colliders a particle asks only those a block of cells lists within the farthest
-  // reach below (the fastest particle and the fastest collider point at a particle).
-  std::optional<ColliderCandidates> near;
-  if (colliders.size() > 2) {
-    double fastest = 0.0, fastest_collider = 0.0;
-    for (std::size_t p = 0; p < g.x.size(); ++p) {
-      fastest = std::max(fastest, g.v[p].norm());
-      for (const GridCollider& c : colliders)
-        fastest_collider = std::max(fastest_collider, c.velocity.at(g.x[p]).norm());
-    }
-    const double reach = support + longest_step * (fastest + fastest_collider);
-    if (std::isfinite(reach)) near.emplace(colliders, 0.0, reach, 4.0 / 3.0 * support);
+  // A particle asks only the colliders a block of cells lists within the farthest reach below
+  // (the fastest particle and the fastest collider point at a particle).
+  double fastest = 0.0, fastest_collider = 0.0;
+  for (std::size_t p = 0; p < g.x.size(); ++p) {
+    fastest = std::max(fastest, g.v[p].norm());
+    for (const GridCollider& c : colliders)
+      fastest_collider = std::max(fastest_collider, c.velocity.at(g.x[p]).norm());
   }
-  std::vector<int> all(colliders.size());
-  for (std::size_t k = 0; k < colliders.size(); ++k) all[k] = static_cast<int>(k);
+  const ColliderCandidates near(
+      colliders, 0.0, support + longest_step * (fastest + fastest_collider), 4.0 / 3.0 * support);
   return tbb::parallel_reduce(
       tbb::blocked_range<int>(0, static_cast<int>(g.x.size()), 256), 0.0,
       [&](const tbb::blocked_range<int>& r, double w) {
         for (int p = r.begin(); p != r.end(); ++p)
-          for (int k : near ? near->near(g.x[p]) : all) {
+          for (int k : near.near(g.x[p])) {
             const GridCollider& c = colliders[k];
             const Vec3 vc = c.velocity.at(g.x[p]);
             const double reach = support + longest_step * (g.v[p].norm() + vc.norm());

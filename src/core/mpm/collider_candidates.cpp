@@ -17,9 +17,11 @@ ColliderCandidates::ColliderCandidates(const std::vector<GridCollider>& collider
     lipschitz_.push_back(1.0 + dt * colliders[k].velocity.angular.norm());
     all_.push_back(static_cast<int>(k));
   }
+  listing_ = colliders.size() > 2 && std::isfinite(reach) && reach >= 0.0 && cell > 0.0;
 }
 
 const std::vector<int>& ColliderCandidates::near(const Eigen::Vector3d& x) const {
+  if (!listing_) return all_;
   const Eigen::Array3d c = (x / cell_).array().floor();
   if (!c.allFinite() || (c.abs() >= kCellRange - 1.0).any()) return all_;
   const std::int64_t key = (static_cast<std::int64_t>(c.x() + kCellRange) << 42) |

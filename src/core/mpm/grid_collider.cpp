@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <string>
 
 #include "cloth_hair_sim/core/common/input_error.h"
@@ -55,14 +54,11 @@ void applyGridColliders(SparseGrid& grid, const std::vector<GridCollider>& colli
   if (impulses) impulses->resize(colliders.size());
   // Only the colliders that may hold a node of its block of 4^3 nodes: on the demo's mannequin
   // (18 colliders) every node asked every one, a third of the explicit step.
-  std::vector<int> all(colliders.size());
-  for (std::size_t k = 0; k < colliders.size(); ++k) all[k] = static_cast<int>(k);
-  std::optional<ColliderCandidates> near;
-  if (colliders.size() > 2) near.emplace(colliders, 0.0, 0.0, 4.0 * grid.spacing());
+  const ColliderCandidates near(colliders, 0.0, 0.0, 4.0 * grid.spacing());
   for (int i = 0; i < grid.size(); ++i) {
     if (grid.mass[i] <= 0.0) continue;
     const Eigen::Vector3d x = grid.position(i);
-    for (int k : near ? near->near(x) : all) {
+    for (int k : near.near(x)) {
       const GridCollider& c = colliders[k];
       const SurfaceProjection p = c.surface->project(x);
       if (p.gap > 0.0) continue;

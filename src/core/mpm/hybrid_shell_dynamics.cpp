@@ -858,9 +858,8 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
   // The colliders within two control spacings of a block of 4^3 cells, for the control points'
   // collisions and clearances below: each point asks those alone (on the demo's mannequin every
   // point asked all 18, a tenth of the explicit step).
-  const double reach = 2.0 * std::max(control_spacing_, dx_);
-  std::optional<mpm::ColliderCandidates> near;
-  if (grid_colliders_.size() > 2) near.emplace(grid_colliders_, 0.0, reach, 4.0 * dx_);
+  const mpm::ColliderCandidates near(grid_colliders_, 0.0, 2.0 * std::max(control_spacing_, dx_),
+                                     4.0 * dx_);
   if (surface_collisions) {
     surface_start_.resize(numVertices());
     for (int p = 0; p < numVertices(); ++p) surface_start_[p] = control_.x[p] - dt * control_.v[p];
@@ -895,10 +894,9 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
     // APIC affine velocity goes too: it holds the free nodes' slide and would hand it back to
     // the grid at the next transfer, so a patch below the friction onset would creep.
     const Vec3 x_start = control_.x[p] - dt * control_.v[p];
-    const std::vector<int>* listed = near ? &near->near(control_.x[p]) : nullptr;
+    const std::vector<int>* listed = &near.near(control_.x[p]);
     for (std::size_t c = 0; c < surfaces_.size(); ++c) {
-      if (listed && !std::binary_search(listed->begin(), listed->end(), static_cast<int>(c)))
-        continue;
+      if (!std::binary_search(listed->begin(), listed->end(), static_cast<int>(c))) continue;
       const SurfaceProjection pr = surfaces_[c]->project(control_.x[p]);
       if (pr.gap >= 0.0) continue;
       const mpm::GridCollider& gc = grid_colliders_[c];
@@ -914,7 +912,7 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
       }
       const double gap = surfaces_[c]->project(control_.x[p]).gap;
       if (gap < 0.0) control_.x[p] -= gap * pr.normal;
-      if (listed) listed = &near->near(control_.x[p]);  // it moved: the colliders near it now
+      listed = &near.near(control_.x[p]);  // it moved: the colliders near it now
     }
   }
   placeClamped(dt);
@@ -925,9 +923,8 @@ void HybridShellDynamics::updatePositionsAndTrialState(double dt) {
     clearance_.resize(numVertices());
     tbb::parallel_for(0, numVertices(), [&](int p) {
       movable_[p] = !pins_.isPinned(p) && !clamps_.isSlaved(p) && free_axes_[p] == Vec3::Ones();
-      clearance_[p] =
-          near ? mpm::clearanceOf(control_.x[p], grid_colliders_, &near->near(control_.x[p]), reach)
-               : mpm::clearanceOf(control_.x[p], grid_colliders_);
+      clearance_[p] = mpm::clearanceOf(control_.x[p], grid_colliders_, &near.near(control_.x[p]),
+                                       near.beyond());
     });
     const mpm::SurfaceCollisionResult pushed =
         surface_collisions_->apply(control_.x, control_.v, surface_start_, control_.mass, movable_,

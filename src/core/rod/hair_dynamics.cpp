@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -366,7 +365,7 @@ void HairDynamics::solveStrandStep(Strand& s, double dt, StrandNewtonResult& res
   if (near_obstacles_)
     contact.setNearObstacles(
         [this](const Vec3& x) -> const std::vector<int>& { return near_obstacles_->near(x); },
-        near_reach_);
+        near_obstacles_->beyond());
   contact.updateLag(s.q_start, reach, skip);
   if (!contact.empty()) loads.obstacles = &contact;
   result = solveStrand(rod, loads, settings_.newton);
@@ -421,22 +420,18 @@ void HairDynamics::beginStep(double dt) {
   // With many colliders (a mannequin's links) each vertex's obstacle contact asks only those
   // listed near it: within what a vertex's candidate reach (solveStrandStep), the contact
   // distance and an obstacle's motion over the step add up to at most.
-  std::optional<mpm::ColliderCandidates> near;
-  if (colliders_.size() > 2) {
-    double segment = 0.0, fastest = 0.0, fastest_collider = 0.0;
-    for (const Strand& s : strands_) {
-      segment = std::max(segment, s.rod.length() / s.rod.numEdges());
-      for (const Vec3& v : s.v) fastest = std::max(fastest, v.norm());
-      for (const Vec3& x : s.rod.positions())
-        for (const mpm::GridCollider& c : colliders_)
-          fastest_collider = std::max(fastest_collider, c.velocity.at(x).norm());
-    }
-    near_reach_ = 2.0 * (segment + dt * (fastest + fastest_collider));
-    if (std::isfinite(near_reach_) && near_reach_ > 0.0) {
-      near.emplace(colliders_, 0.0, near_reach_, 4.0 * settings_.grid_spacing);
-      near_obstacles_ = &*near;
-    }
+  double segment = 0.0, fastest = 0.0, fastest_collider = 0.0;
+  for (const Strand& s : strands_) {
+    segment = std::max(segment, s.rod.length() / s.rod.numEdges());
+    for (const Vec3& v : s.v) fastest = std::max(fastest, v.norm());
+    for (const Vec3& x : s.rod.positions())
+      for (const mpm::GridCollider& c : colliders_)
+        fastest_collider = std::max(fastest_collider, c.velocity.at(x).norm());
   }
+  const mpm::ColliderCandidates near(colliders_, 0.0,
+                                     2.0 * (segment + dt * (fastest + fastest_collider)),
+                                     4.0 * settings_.grid_spacing);
+  near_obstacles_ = &near;
   tbb::parallel_for(0, numStrands(), [&](int s) { solveStrandStep(strands_[s], dt, results[s]); });
   near_obstacles_ = nullptr;
   for (const Strand& strand : strands_)

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -23,14 +24,18 @@ namespace chs::mpm {
 // with a margin of a hundredth for sampled distance fields) is farther than reach from every
 // point of the cell, and leaves the cell's list. A cell's list is made on its first query and
 // kept for the step, by each thread for itself (a shared map's locks cost more than the few
-// cells two threads both make).
+// cells two threads both make). With two colliders or fewer, or a reach that is not finite,
+// every query gets them all (a list would cost what it saves).
 class ColliderCandidates {
  public:
   ColliderCandidates(const std::vector<GridCollider>& colliders, double dt, double reach,
                      double cell);
 
-  // The indices of the colliders that may lie within reach of x.
+  // The indices of the colliders that may lie within reach of x, ascending.
   const std::vector<int>& near(const Eigen::Vector3d& x) const;
+  // How far every collider a list leaves out lies at least: reach, or infinity when every query
+  // gets them all.
+  double beyond() const { return listing_ ? reach_ : std::numeric_limits<double>::infinity(); }
 
  private:
   using CellMap = std::unordered_map<std::int64_t, std::vector<int>>;
@@ -38,6 +43,7 @@ class ColliderCandidates {
   double dt_, reach_, cell_;
   std::vector<double> lipschitz_;  // per collider
   std::vector<int> all_;           // every collider: for a point whose cell cannot be keyed
+  bool listing_ = false;
   mutable tbb::enumerable_thread_specific<CellMap> cells_;
 };
 

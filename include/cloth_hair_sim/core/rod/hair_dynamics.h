@@ -274,10 +274,9 @@ class HairDynamics : public Body {
   RigidSurfaces surfaces_;
   std::vector<mpm::GridCollider> colliders_;
   std::vector<StrandObstacle> obstacles_;  // the same, for the strands' implicit solves
-  // During beginStep, with more than two colliders: those near each point, every other farther
-  // than near_reach_ (the strands' obstacle contact asks those alone).
+  // During beginStep: the colliders near each point (the strands' obstacle contact asks those
+  // alone).
   const mpm::ColliderCandidates* near_obstacles_ = nullptr;
-  double near_reach_ = 0.0;
   std::vector<mpm::ColliderImpulse> collider_impulse_;
   // Per strand, per collider (strand k's impulse on collider c at k * colliders + c).
   std::vector<mpm::ColliderImpulse> strand_grid_impulse_;
