@@ -516,8 +516,9 @@ ImplicitElasticityResult ImplicitElasticity::solve(
     // of 9 traced solves (3.6e-3 -> 3.7e-3, 1.3e-2 -> 6.9e-2 m/s: the soft modes' correction;
     // one fell 5 times), and the third converged quadratically from there (docs/BENCHMARKS.md).
     const bool newton_refresh = newton_ && result.iterations != 1;
+    const double refresh_ratio = pushes_.empty() ? s.refresh_ratio : s.contact_refresh_ratio;
     bool fresh = !factored_ || !s.reuse_factorization || std::abs(dt / factored_dt_ - 1.0) > 0.25 ||
-                 free != factored_free_ || (stale && ratio > s.refresh_ratio) || newton_refresh;
+                 free != factored_free_ || (stale && ratio > refresh_ratio) || newton_refresh;
     bool accepted = false, fresh_used = false;
     for (int attempt = 0; attempt < 2 && !accepted; ++attempt) {
       if (fresh || !factored_) {

@@ -84,6 +84,12 @@ struct ImplicitElasticitySettings {
   // does not. A factorisation costs as much as ~20 iterations on a stale one.
   bool reuse_factorization = true;
   double refresh_ratio = 0.5;
+  // The same while samples touch obstacles: there the contacts change from iteration to
+  // iteration, and a fresh factor cut the residual no faster than the kept one (on the cloth
+  // falling onto the sphere, 1.25-2 times per fresh iteration against 1.5-3 per kept one), so
+  // the factor is refreshed only when an iteration on it does not lower the residual at all
+  // (docs/BENCHMARKS.md, 2026-12-07).
+  double contact_refresh_ratio = 1.0;
   // Curvature pairs of L-BFGS kept on top of a kept factorisation (0: plain chord iterations).
   int history = 8;
   ObstaclePenalty obstacles;
