@@ -207,24 +207,6 @@ Run runBullet(const DropScene& scene, const BulletSettings& b, int every) {
 // ---------------------------------------------------------------------------------------------
 // The hybrid Lagrangian/MPM shell.
 
-// Limit-surface points at the control vertices' parameter positions (a face corner of each
-// vertex), so that the stretch is measured on the same 33 x 33 grid as Bullet's nodes, but on
-// the surface the shell simulates rather than on its control net.
-std::vector<chs::SurfaceStencil> cornerStencils(const chs::QuadMesh& mesh,
-                                                const chs::LimitSurface& surface) {
-  static constexpr double kCornerUV[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  std::vector<chs::SurfaceStencil> s(mesh.numVertices());
-  std::vector<char> done(mesh.numVertices(), 0);
-  for (int f = 0; f < mesh.numQuads(); ++f)
-    for (int k = 0; k < 4; ++k) {
-      const int v = mesh.quads[f][k];
-      if (done[v]) continue;
-      s[v] = surface.stencil(f, kCornerUV[k][0], kCornerUV[k][1]);
-      done[v] = 1;
-    }
-  return s;
-}
-
 Run runHybrid(const DropScene& scene, chs::TimeIntegration integration, int threads, int every,
               const chs::HybridShellSettings& base) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
@@ -240,7 +222,9 @@ Run runHybrid(const DropScene& scene, chs::TimeIntegration integration, int thre
   s.max_time_step = 1.0 / scene.fps;
   chs::HybridShellDynamics d(p, s);
 
-  const std::vector<chs::SurfaceStencil> corners = cornerStencils(p.mesh, d.limitSurface());
+  // The stretch on the limit surface at the control vertices (the same 33 x 33 grid as Bullet's
+  // nodes), not on the control net.
+  const std::vector<chs::SurfaceStencil> corners = chs::vertexStencils(p.mesh, d.limitSurface());
   const GridEdges edges(scene.side(), chs::evaluate(corners, d.positions()));
 
   Run r;

@@ -220,6 +220,43 @@ TEST(LimitSurface, PartitionOfUnity) {
   }
 }
 
+// vertexStencils: a control vertex's limit point is the same from every face around it (the
+// surface is continuous), on a bent net with boundary and extraordinary vertices; a control net
+// scaled by s scales the distances between those points by s (what simulate's stretch reads).
+TEST(LimitSurface, VertexStencilsAgreeOverTheFacesAroundAVertex) {
+  static constexpr double kCornerUV[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (const QuadMesh& mesh : {makeRectangleMesh(0.3, 0.2, 6, 4), sectorMesh(5, 2), boxMesh(2)}) {
+    const LimitSurface s(mesh);
+    const std::vector<SurfaceStencil> at = vertexStencils(mesh, s);
+    ASSERT_EQ(at.size(), mesh.vertices.size());
+    std::vector<V3> x = mesh.vertices;
+    for (V3& p : x) p += V3(0.1 * p.y() * p.y(), 0.2 * std::sin(3.0 * p.x()), 0.3 * p.x() * p.y());
+    const std::vector<V3> points = evaluate(at, x);
+    double largest = 0.0;
+    for (int f = 0; f < mesh.numQuads(); ++f)
+      for (int k = 0; k < 4; ++k)
+        largest = std::max(largest, (s.stencil(f, kCornerUV[k][0], kCornerUV[k][1]).position(x) -
+                                     points[mesh.quads[f][k]])
+                                        .norm());
+    std::vector<V3> scaled = x;
+    for (V3& p : scaled) p *= 1.7;
+    const std::vector<V3> far = evaluate(at, scaled);
+    double ratio_error = 0.0;
+    for (const auto& q : mesh.quads)
+      for (int k = 0; k < 4; ++k) {
+        const int a = q[k], b = q[(k + 1) % 4];
+        ratio_error = std::max(
+            ratio_error, std::abs((far[a] - far[b]).norm() / (points[a] - points[b]).norm() - 1.7));
+      }
+    std::printf(
+        "[figure] vertex stencils, %d vertices: largest disagreement between faces %.2e m; "
+        "scaled net's distance ratio off by %.2e\n",
+        static_cast<int>(mesh.vertices.size()), largest, ratio_error);
+    EXPECT_LT(largest, 1e-12);
+    EXPECT_LT(ratio_error, 1e-12);
+  }
+}
+
 // The contact particles' flat stencils give the same positions and tangents as the full ones,
 // at regular and extraordinary faces, over a bent control net.
 TEST(LimitSurface, FirstOrderStencilsMatchTheFullStencils) {

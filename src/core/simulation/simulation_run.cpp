@@ -35,10 +35,11 @@ SimulationRun::SimulationRun(const SimulationScene& scene, int max_halvings)
       for (int k = 0; k < 4; ++k)
         edges.insert({std::min(q[k], q[(k + 1) % 4]), std::max(q[k], q[(k + 1) % 4])});
     edges_.emplace_back(edges.begin(), edges.end());
+    vertex_stencils_.push_back(vertexStencils(b.problem.mesh, d->limitSurface()));
+    const std::vector<Eigen::Vector3d> rest = evaluate(vertex_stencils_.back(), d->positions());
     rest_lengths_.emplace_back();
     for (const auto& e : edges_.back())
-      rest_lengths_.back().push_back(
-          (b.problem.mesh.vertices[e[1]] - b.problem.mesh.vertices[e[0]]).norm());
+      rest_lengths_.back().push_back((rest[e[1]] - rest[e[0]]).norm());
   }
   for (const SimulationHair& h : scene_.hair) {
     rod::HairSettings settings;
@@ -134,11 +135,11 @@ FrameRecord SimulationRun::record() const {
     BodyFrame f;
     f.kinetic_energy = d.kineticEnergy();
     f.deepest_penetration = d.deepestPenetration();
+    const std::vector<Eigen::Vector3d> x = evaluate(vertex_stencils_[b], d.positions());
     for (std::size_t e = 0; e < edges_[b].size(); ++e) {
       const auto& ends = edges_[b][e];
       f.largest_stretch =
-          std::max(f.largest_stretch,
-                   (d.positions()[ends[1]] - d.positions()[ends[0]]).norm() / rest_lengths_[b][e]);
+          std::max(f.largest_stretch, (x[ends[1]] - x[ends[0]]).norm() / rest_lengths_[b][e]);
     }
     rec.kinetic_energy += f.kinetic_energy;
     rec.bodies.push_back(f);

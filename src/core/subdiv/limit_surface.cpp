@@ -166,6 +166,20 @@ LimitTessellation LimitSurface::tessellate(int segments_per_edge, int num_faces)
   return t;
 }
 
+std::vector<SurfaceStencil> vertexStencils(const QuadMesh& mesh, const LimitSurface& surface) {
+  static constexpr double kCornerUV[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  std::vector<SurfaceStencil> s(mesh.numVertices());
+  std::vector<char> done(mesh.numVertices(), 0);
+  for (int f = 0; f < mesh.numQuads(); ++f)
+    for (int k = 0; k < 4; ++k) {
+      const int v = mesh.quads[f][k];
+      if (done[v]) continue;
+      s[v] = surface.stencil(f, kCornerUV[k][0], kCornerUV[k][1]);
+      done[v] = 1;
+    }
+  return s;
+}
+
 std::vector<Eigen::Vector3d> evaluate(const std::vector<SurfaceStencil>& stencils,
                                       const std::vector<Eigen::Vector3d>& control_positions) {
   std::vector<Eigen::Vector3d> x;

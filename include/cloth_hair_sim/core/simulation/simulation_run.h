@@ -18,7 +18,8 @@ struct BodyFrame {
   double kinetic_energy = 0.0;  // J
   // m, of a garment's limit surface, or of a hair's vertices, into the colliders
   double deepest_penetration = 0.0;
-  // largest control-edge (garment) or segment (hair) length over its reference length
+  // largest length over reference length: of the limit surface between neighbouring control
+  // vertices' points (garment, vertexStencils) or of a segment (hair)
   double largest_stretch = 1.0;
 };
 
@@ -84,8 +85,10 @@ class SimulationRun {
   int max_halvings_;
   World world_;
   std::vector<std::shared_ptr<HybridShellDynamics>> bodies_;
-  // Per body: the control mesh's edges and their reference lengths.
+  // Per body: its control edges, the limit surface's points at the control vertices
+  // (vertexStencils) and the rest length between those points along each edge.
   std::vector<std::vector<std::array<int, 2>>> edges_;
+  std::vector<std::vector<SurfaceStencil>> vertex_stencils_;
   std::vector<std::vector<double>> rest_lengths_;
   std::vector<std::shared_ptr<rod::HairDynamics>> hair_;
   int frames_done_ = 0;

@@ -87,6 +87,13 @@ class LimitSurface {
   std::unique_ptr<const Faces> faces_;
 };
 
+// The limit surface's point at each control vertex of `mesh` (its parameter position, a corner of
+// a face it belongs to; every such corner gives the same point): the surface's own grid over the
+// control net, on which a stretch is measured as the cloth has it rather than its net (in folds
+// the net stretches where the surface does not). `surface` is the limit surface of `mesh`, whose
+// faces come first in it (ghost faces after them).
+std::vector<SurfaceStencil> vertexStencils(const QuadMesh& mesh, const LimitSurface& surface);
+
 // Positions x(u, v) = sum_k w_k x_{p_k} of each stencil over the given control positions.
 std::vector<Eigen::Vector3d> evaluate(const std::vector<SurfaceStencil>& stencils,
                                       const std::vector<Eigen::Vector3d>& control_positions);
