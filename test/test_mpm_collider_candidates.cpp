@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
 
+#include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/contact/capsule_surface.h"
 #include "cloth_hair_sim/core/contact/posed_surface.h"
 #include "cloth_hair_sim/core/mpm/collider_candidates.h"
@@ -119,6 +120,49 @@ TEST(MpmColliderCandidates, NearestWithinReachAsAFullSearch) {
       EXPECT_LT(tested / points.size(), 0.5 * colliders.size());
     }
   }
+}
+
+// The deepest penetration asked of the lists with reach 0 (what the node's status and simulate's
+// report measure, HybridShellDynamics::deepestPenetration) is the one asking every collider, point
+// by point, for points on the colliders' surfaces give or take 4 mm (half of them inside).
+TEST(MpmColliderCandidates, DeepestPenetrationAsWithEveryCollider) {
+  const std::vector<GridCollider> colliders = limbs();
+  RigidSurfaces surfaces;
+  for (const GridCollider& c : colliders) surfaces.push_back(c.surface);
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-0.2, 1.2), small(-0.004, 0.004);
+  std::vector<Vec3> points;
+  for (const GridCollider& c : colliders)
+    for (int i = 0; i < 1000; ++i) {
+      const Vec3 x(u(rng), u(rng), u(rng));
+      const SurfaceProjection p = c.surface->project(x);
+      points.push_back(x - p.gap * p.normal + Vec3(small(rng), small(rng), small(rng)));
+    }
+  const ColliderCandidates inside(colliders, 0.0, 0.0, 0.04);
+  const auto listed = [&inside](const Vec3& x) -> const std::vector<int>& {
+    return inside.near(x);
+  };
+  int deep = 0, wrong = 0;
+  double tested = 0.0;
+  for (const Vec3& x : points) {
+    const DeepestPenetration full = deepestPenetration({x}, surfaces);
+    const DeepestPenetration fast = deepestPenetration({x}, surfaces, listed);
+    deep += full.collider >= 0;
+    wrong += full.collider != fast.collider || full.depth != fast.depth;
+    tested += static_cast<double>(inside.near(x).size());
+  }
+  const DeepestPenetration all = deepestPenetration(points, surfaces);
+  const DeepestPenetration fast = deepestPenetration(points, surfaces, listed);
+  std::printf(
+      "[figure] deepest penetration from the lists: %d of %zu points inside a collider, %d "
+      "answers differ from asking all; deepest %.3f mm both (%s); %.2f of %zu colliders asked per "
+      "point\n",
+      deep, points.size(), wrong, 1e3 * fast.depth, all.depth == fast.depth ? "equal" : "DIFFER",
+      tested / points.size(), colliders.size());
+  EXPECT_GT(deep, 5000);
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(all.depth, fast.depth);
+  EXPECT_LT(tested / points.size(), 0.5 * colliders.size());
 }
 
 // The grid's conditions (applyGridColliders, which asks the lists of blocks of 4^3 nodes) give

@@ -6,8 +6,9 @@
 
 namespace chs {
 
-DeepestPenetration deepestPenetration(const std::vector<Eigen::Vector3d>& points,
-                                      const RigidSurfaces& colliders) {
+DeepestPenetration deepestPenetration(
+    const std::vector<Eigen::Vector3d>& points, const RigidSurfaces& colliders,
+    const std::function<const std::vector<int>&(const Eigen::Vector3d&)>& candidates) {
   for (std::size_t c = 0; c < colliders.size(); ++c)
     if (!colliders[c])
       throw InputError("penetration depth: collider " + std::to_string(c) + " is null");
@@ -17,12 +18,20 @@ DeepestPenetration deepestPenetration(const std::vector<Eigen::Vector3d>& points
     if (!points[p].allFinite())
       throw InputError("penetration depth: point " + std::to_string(p) +
                        " has a non-finite coordinate");
-    for (std::size_t c = 0; c < colliders.size(); ++c) {
+    for (int c : candidates(points[p])) {
       const double depth = -colliders[c]->project(points[p]).gap;
-      if (depth > deepest.depth) deepest = {depth, static_cast<int>(p), static_cast<int>(c)};
+      if (depth > deepest.depth) deepest = {depth, static_cast<int>(p), c};
     }
   }
   return deepest;
+}
+
+DeepestPenetration deepestPenetration(const std::vector<Eigen::Vector3d>& points,
+                                      const RigidSurfaces& colliders) {
+  std::vector<int> all(colliders.size());
+  for (std::size_t c = 0; c < colliders.size(); ++c) all[c] = static_cast<int>(c);
+  return deepestPenetration(
+      points, colliders, [&all](const Eigen::Vector3d&) -> const std::vector<int>& { return all; });
 }
 
 }  // namespace chs

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -19,5 +20,10 @@ struct DeepestPenetration {
 // non-finite point or a null collider.
 DeepestPenetration deepestPenetration(const std::vector<Eigen::Vector3d>& points,
                                       const RigidSurfaces& colliders);
+// The same, asking each point only the colliders `candidates` lists for it (indices into
+// colliders, e.g. mpm::ColliderCandidates' with reach 0): those that may contain it.
+DeepestPenetration deepestPenetration(
+    const std::vector<Eigen::Vector3d>& points, const RigidSurfaces& colliders,
+    const std::function<const std::vector<int>&(const Eigen::Vector3d&)>& candidates);
 
 }  // namespace chs
