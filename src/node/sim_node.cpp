@@ -10,7 +10,6 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "cloth_hair_sim/SimStatus.h"
-#include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/common/names.h"
 #include "cloth_hair_sim/core/io/scene.h"
@@ -658,22 +657,15 @@ void SimNode::onStatusTimer(const ros::TimerEvent&) {
     for (const auto& [name, g] : garments_) {
       s.vertices += g.dynamics->numVertices();
       s.kinetic_energy += g.dynamics->kineticEnergy();
-      const auto* hybrid = dynamic_cast<const chs::HybridShellDynamics*>(g.dynamics.get());
-      if (hybrid) {
-        s.particles += hybrid->numVertices() + hybrid->numContactParticles();
-        s.quadrature_points += hybrid->numQuadraturePoints();
-        s.grid_nodes += hybrid->numGridNodes();
+      if (const auto* h = dynamic_cast<const chs::HybridShellDynamics*>(g.dynamics.get())) {
+        s.particles += h->numVertices() + h->numContactParticles();
+        s.quadrature_points += h->numQuadraturePoints();
+        s.grid_nodes += h->numGridNodes();
       } else {
         s.particles += g.dynamics->numVertices();
       }
-      // Positions are finite here: a diverged substep is rolled back before it is kept. The
-      // hybrid shell asks each point only the colliders that may contain it.
-      s.deepest_penetration =
-          std::max(s.deepest_penetration,
-                   hybrid ? hybrid->deepestPenetration()
-                          : chs::deepestPenetration(g.dynamics->displaySurface().vertices,
-                                                    g.dynamics->colliders())
-                                .depth);
+      // Positions are finite here: a diverged substep is rolled back before it is kept.
+      s.deepest_penetration = std::max(s.deepest_penetration, g.dynamics->deepestPenetration());
     }
     for (const auto& [name, h] : hairs_) {
       s.vertices += h.numVertices();

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross
 
+#include "cloth_hair_sim/core/collision/penetration_depth.h"
 #include "cloth_hair_sim/core/contact/rigid_surface.h"
 #include "cloth_hair_sim/core/io/state_stream.h"
 
@@ -65,6 +66,11 @@ class ClothDynamics {
                             const std::vector<SurfaceVelocity>& velocities = {},
                             const std::vector<double>& frictions = {}) = 0;
   virtual const RigidSurfaces& colliders() const = 0;
+  // Deepest penetration of the displayed surface into the colliders [m] (>= 0). Throws
+  // InputError for a non-finite vertex.
+  virtual double deepestPenetration() const {
+    return chs::deepestPenetration(displaySurface().vertices, colliders()).depth;
+  }
 
   virtual void pin(int vertex) = 0;                                 // at its current position
   virtual void pin(int vertex, const Eigen::Vector3d& target) = 0;  // or carried to target

@@ -270,7 +270,7 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   Eigen::Vector3d angularMomentum() const;  // about the origin, particles' x m v + APIC spin
   double elasticEnergy() const;             // Kirchhoff-Love lamina energy now
   // Deepest penetration of the tessellated limit surface into the colliders (>= 0).
-  double deepestPenetration() const;
+  double deepestPenetration() const override;
   const HybridStageTimes& stageTimes() const { return times_; }
   // The Newton-Krylov solve of the last backward Euler step, and how many backward Euler steps
   // fell short of the tolerance and were redone with explicit substeps (since construction).
