@@ -222,7 +222,7 @@ StrandCollisions::StrandCollisions(const StrandCollisionSettings& s) : settings_
 // passes of a step, which change the velocities by a fraction of the thickness per step, then
 // share one search; hair at rest keeps it over steps.
 void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                                  double grow, double dt, double slack,
+                                  double grow, double dt, double slack, bool changed_only,
                                   StrandCollisionStats& stats) {
   const int n = static_cast<int>(segments_.size());
   std::vector<Eigen::AlignedBox3d> boxes(n);
@@ -263,7 +263,10 @@ void StrandCollisions::candidates(const std::vector<Vec3>& x, const std::vector<
       tbb::blocked_range<std::size_t>(0, m, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           const Pair& p = searched_pairs_[i];
-          keep_[i] = boxes[segment_index_[p.a]].intersects(boxes[segment_index_[p.b]]);
+          // The flags first: a byte per vertex stays in cache, the boxes of a pair do not.
+          keep_[i] =
+              (!changed_only || (dirty_[p.a] | dirty_[p.a + 1] | dirty_[p.b] | dirty_[p.b + 1])) &&
+              boxes[segment_index_[p.a]].intersects(boxes[segment_index_[p.b]]);
         }
       });
   pairs_.clear();
@@ -547,7 +550,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
   count_.assign(nv, 0);
 
   // Proximity (Bridson 7.1): pairs closer than the thickness at x^n.
-  candidates(x, v, thickness, dt, thickness, stats);
+  candidates(x, v, thickness, dt, thickness, false, stats);
   stats.candidate_pairs = static_cast<int>(pairs_.size());
   const double repulsion = settings_.repulsion;
   for (int pass = 0; pass < settings_.max_iterations; ++pass) {
@@ -598,7 +601,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
       for (int i : im.vertex) dirty_[i] = 1;
   };
   for (int pass = 0; pass < settings_.max_iterations; ++pass) {
-    candidates(x, v, margin, dt, thickness, stats);
+    candidates(x, v, margin, dt, thickness, true, stats);
     std::vector<Impulse> impulses = collisionImpulses(x, v, inverse_mass, thickness, dt);
     if (impulses.empty()) return stats;
     ++stats.collision_passes;
@@ -615,7 +618,7 @@ StrandCollisionStats StrandCollisions::resolve(const std::vector<Vec3>& x, std::
     return i;
   };
   for (;;) {
-    candidates(x, v, margin, dt, thickness, stats);
+    candidates(x, v, margin, dt, thickness, true, stats);
     // A pair inside one zone moves affinely and does not cross (it may stay within the margin).
     // One left inside a zone with clamps moving apart is not resolved.
     bool outside = false, stuck = false;

@@ -127,9 +127,11 @@ class StrandCollisions {
   };
   // Fills pairs_ with the segment pairs whose boxes over the step (grown by grow / 2) meet,
   // searching again (with the boxes grown by at least slack more) only for the boxes that have
-  // left their last ones, or anew when many have.
+  // left their last ones, or anew when many have. changed_only: only pairs with a vertex in
+  // dirty_ (a collision pass tests no other).
   void candidates(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& v,
-                  double grow, double dt, double slack, StrandCollisionStats& stats);
+                  double grow, double dt, double slack, bool changed_only,
+                  StrandCollisionStats& stats);
   // A new cell search over all boxes grown by at least slack (searched_*, the grid).
   void search(const std::vector<Eigen::AlignedBox3d>& boxes, double slack);
   // The boxes `left` (indices into segments_) searched again, grown by at least slack, against
