@@ -159,6 +159,11 @@ class StrandCollisions {
   std::vector<Eigen::AlignedBox3d> searched_boxes_;
   std::vector<Pair> searched_pairs_;
   std::vector<char> keep_;  // scratch of candidates(): which of searched_pairs_ meet now
+  // Each segment's box over the step grown by boxes_grow_ / 2, as candidates() last made it,
+  // and whether that call made it again.
+  std::vector<Eigen::AlignedBox3d> boxes_;
+  double boxes_grow_ = 0.0;
+  std::vector<char> remade_;
   std::vector<int> segment_index_;
   // The last full search's uniform grid: cell size, corner, and its entries by cell key.
   struct CellEntry {
