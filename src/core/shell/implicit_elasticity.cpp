@@ -37,13 +37,36 @@ struct ImplicitElasticity::Workspace {
 // twice (cholmod_transpose_sym).
 struct ImplicitElasticity::Factor {
   using Llt = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
-  // The ordering CHOLMOD chooses for a pattern (its factor's Perm after the analysis).
+  // The fill-reducing order of a pattern with the fewest flops of the factorisation, of the
+  // three CHOLMOD offers (its factor's Perm after each analysis). CHOLMOD's own choice tries
+  // METIS only where AMD fills in much and then keeps the smaller factor: on the cloth dropped
+  // on the sphere it kept AMD (289 MFlop per factorisation) where nested dissection needs 234,
+  // on the towel 97.6 against 89.2 (docs/BENCHMARKS.md, 2026-12-08).
   struct Ordering : Llt {
     std::vector<int> of(const Eigen::SparseMatrix<double>& pattern) {
       cholmod().print = 0;
-      analyzePattern(pattern);
-      const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
-      return std::vector<int>(perm, perm + m_cholmodFactor->n);
+      cholmod().nmethods = 1;
+      std::vector<int> best;
+      double best_flops = std::numeric_limits<double>::infinity();
+      const auto perm = [this] {
+        const int* p = static_cast<const int*>(m_cholmodFactor->Perm);
+        return std::vector<int>(p, p + m_cholmodFactor->n);
+      };
+      for (int ordering : {CHOLMOD_AMD, CHOLMOD_METIS, CHOLMOD_NESDIS}) {
+        cholmod().method[0].ordering = ordering;
+        analyzePattern(pattern);
+        // (A CHOLMOD built without METIS refuses the last two.)
+        if (!m_cholmodFactor || cholmod().status != CHOLMOD_OK || !(cholmod().fl < best_flops))
+          continue;
+        best_flops = cholmod().fl;
+        best = perm();
+      }
+      if (best.empty()) {  // CHOLMOD's own choice
+        cholmod().nmethods = 0;
+        analyzePattern(pattern);
+        best = perm();
+      }
+      return best;
     }
   };
   Llt llt;
