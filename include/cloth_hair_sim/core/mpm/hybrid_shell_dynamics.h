@@ -294,6 +294,7 @@ class HybridShellDynamics : public ClothDynamics, public Body {
   void updateBdf2History(double dt);
   // The Lagrangian implicit step's elastic stage: the control points' end-of-step positions under
   // elasticity, gravity and damping, taken as their velocities for the grid.
+  void buildElasticity();  // elasticity_ over the control points and their clamps
   void solveElasticity(double dt);
   double explicitTimeStep() const;           // elastic bound times safety, and CFL
   double cflTimeStep(double longest) const;  // the CFL bound up to `longest`
