@@ -314,12 +314,6 @@ void HybridShellDynamics::beginStep(double dt) {
   }
 }
 
-// The elastic stage of the Lagrangian implicit step: backward Euler of the control points alone
-// (shell/implicit_elasticity.h) from x^ = x^n + dt v^n / (1 + c dt) + dt^2 g, with the damping
-// taken implicitly on the incoming velocity as dampGridMomentum does. Pins hold their targets,
-// fixed components their reference values, clamps slave their points to the interior
-// neighbours. The solution's velocities (x* - x^n) / dt are what the grid receives; its forces
-// -dPsi/dx(x*) are what pins and clamps balance.
 void HybridShellDynamics::buildElasticity() {
   const int n = numVertices();
   ControlPointLinks links;
@@ -336,6 +330,12 @@ void HybridShellDynamics::buildElasticity() {
   elasticity_ = std::make_unique<ImplicitElasticity>(kl_points_, n, std::move(links));
 }
 
+// The elastic stage of the Lagrangian implicit step: backward Euler of the control points alone
+// (shell/implicit_elasticity.h) from x^ = x^n + dt v^n / (1 + c dt) + dt^2 g, with the damping
+// taken implicitly on the incoming velocity as dampGridMomentum does. Pins hold their targets,
+// fixed components their reference values, clamps slave their points to the interior
+// neighbours. The solution's velocities (x* - x^n) / dt are what the grid receives; its forces
+// -dPsi/dx(x*) are what pins and clamps balance.
 void HybridShellDynamics::solveElasticity(double dt) {
   const int n = numVertices();
   if (!elasticity_) buildElasticity();
