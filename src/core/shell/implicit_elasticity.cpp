@@ -8,16 +8,14 @@
 #include <string>
 #include <utility>
 
-#include <Eigen/CholmodSupport>
-
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "cloth_hair_sim/core/common/blas_threads.h"
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/shell/kirchhoff_love_quadrature.h"
 #include "cloth_hair_sim/core/shell/stencil_hessian.h"
+#include "cloth_hair_sim/core/solver/permuted_cholesky.h"
 
 namespace chs {
 
@@ -30,74 +28,13 @@ struct ImplicitElasticity::Workspace {
   explicit Workspace(std::size_t values) : blocks(std::vector<double>(values, 0.0)) {}
 };
 
-// CHOLMOD's supernodal Cholesky of the Newton matrix assembled in its fill-reducing order: the
-// matrix is built permuted (AMD's order with its postorder, from one analysis of the pattern) and
-// factorised in the natural order. Given the lower triangle in the natural order, CHOLMOD's
-// supernodal factorisation reads the matrix as it is; otherwise it first transposes it once or
-// twice (cholmod_transpose_sym).
-struct ImplicitElasticity::Factor {
-  using Llt = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
-  // The fill-reducing order of a pattern with the fewest flops of the factorisation, of the
-  // three CHOLMOD offers (its factor's Perm after each analysis). CHOLMOD's own choice tries
-  // METIS only where AMD fills in much and then keeps the smaller factor: on the cloth dropped
-  // on the sphere it kept AMD (289 MFlop per factorisation) where nested dissection needs 234,
-  // on the towel 97.6 against 89.2 (docs/BENCHMARKS.md, 2026-12-08).
-  struct Ordering : Llt {
-    std::vector<int> of(const Eigen::SparseMatrix<double>& pattern) {
-      cholmod().print = 0;
-      cholmod().nmethods = 1;
-      std::vector<int> best;
-      double best_flops = std::numeric_limits<double>::infinity();
-      const auto perm = [this] {
-        const int* p = static_cast<const int*>(m_cholmodFactor->Perm);
-        return std::vector<int>(p, p + m_cholmodFactor->n);
-      };
-      for (int ordering : {CHOLMOD_AMD, CHOLMOD_METIS, CHOLMOD_NESDIS}) {
-        cholmod().method[0].ordering = ordering;
-        analyzePattern(pattern);
-        // (A CHOLMOD built without METIS refuses the last two.)
-        if (!m_cholmodFactor || cholmod().status != CHOLMOD_OK || !(cholmod().fl < best_flops))
-          continue;
-        best_flops = cholmod().fl;
-        best = perm();
-      }
-      if (best.empty()) {  // CHOLMOD's own choice
-        cholmod().nmethods = 0;
-        analyzePattern(pattern);
-        best = perm();
-      }
-      return best;
-    }
-  };
-  Llt llt;
-  std::vector<int> perm;  // row k of the factorised matrix is row perm[k] of the Newton matrix
-  bool analyzed = false;
-  // An indefinite exact Hessian is expected (refresh() then projects): no CHOLMOD warning.
-  Factor() {
-    llt.cholmod().print = 0;
-    llt.cholmod().nmethods = 1;
-    llt.cholmod().method[0].ordering = CHOLMOD_NATURAL;
-    llt.cholmod().postorder = 0;  // the order given is postordered already
-  }
-  // The Newton matrix's inverse applied to b.
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
-    const int n = static_cast<int>(perm.size());
-    Eigen::VectorXd bp(n), x(n);
-    for (int k = 0; k < n; ++k) bp(k) = b(perm[k]);
-    const Eigen::VectorXd y = llt.solve(bp);
-    for (int k = 0; k < n; ++k) x(perm[k]) = y(k);
-    return x;
-  }
-};
-
 ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& points,
                                        int num_points, ControlPointLinks links)
     : points_(points),
       n_(num_points),
       links_(std::move(links)),
       fibres_(fibreRanges(points)),
-      factor_(std::make_unique<Factor>()) {
-  holdBlasToOneThread();
+      factor_(std::make_unique<PermutedCholesky>()) {
   if (static_cast<int>(links_.owner.size()) != n_ || static_cast<int>(links_.map.size()) != n_)
     throw InputError("implicit elasticity: links for " + std::to_string(links_.owner.size()) +
                      " points, the shell has " + std::to_string(n_));
@@ -162,8 +99,9 @@ ImplicitElasticity::ImplicitElasticity(const std::vector<KirchhoffLovePoint>& po
   workspace_ = std::make_unique<Workspace>(9 * static_cast<std::size_t>(nb));
   matrix_.resize(3 * n_, 3 * n_);
   matrix_.setFromTriplets(triplets.begin(), triplets.end());
-  std::vector<int>& perm = factor_->perm;
-  perm = Factor::Ordering().of(matrix_);
+  // The Newton matrix is assembled in its fill-reducing order (solver/permuted_cholesky.h).
+  factor_ = std::make_unique<PermutedCholesky>(fewestFlopsOrder(matrix_));
+  const std::vector<int>& perm = factor_->order();
   std::vector<int> position(3 * n_);  // of each unknown in the factorised order
   for (int k = 0; k < 3 * n_; ++k) position[perm[k]] = k;
   // The lower triangle in that order alone, from the blocks (r, c <= r): entry (i, j) of block
@@ -418,17 +356,11 @@ void ImplicitElasticity::assemble(const std::vector<Vec3>& x, const std::vector<
   });
   const auto assembled = std::chrono::steady_clock::now();
   result.assembly_seconds += std::chrono::duration<double>(assembled - start).count();
-  const InlineOpenMpRegions serial;
-  if (!factor_->analyzed) {
-    factor_->llt.analyzePattern(matrix_);
-    factor_->analyzed = true;
-  }
   // On one BLAS thread (common/blas_threads.h): lent a second one, the towel's 2028 unknowns
   // factorised in 15 ms instead of 22-26, but its worker then spun in sched_yield through the
   // TBB stages that followed, a third of a core in the node's demo (perf), and whole runs were
   // slower (docs/BENCHMARKS.md, 2026-12-06).
-  factor_->llt.factorize(matrix_);
-  factored_ = factor_->llt.info() == Eigen::Success;
+  factored_ = factor_->factorize(matrix_);
   result.factorization_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - assembled).count();
   factored_dt_ = dt;

@@ -12,6 +12,8 @@
 
 namespace chs {
 
+class PermutedCholesky;
+
 // How the control points' unknowns are tied: each point moves with an owner (itself, or the
 // interior neighbour a clamp slaves it to, subdiv/clamped_edges.h) through a constant map
 // dx_p / dx_owner. Fixed for the shell's life (it sets the Hessian's sparsity).
@@ -199,8 +201,7 @@ class ImplicitElasticity {
   // CHOLMOD's order (-1: a diagonal block's entry left to its mirror).
   std::vector<int> value_index_;
   Eigen::SparseMatrix<double> matrix_;
-  struct Factor;
-  std::unique_ptr<Factor> factor_;
+  std::unique_ptr<PermutedCholesky> factor_;
   struct Workspace;
   std::unique_ptr<Workspace> workspace_;
   bool factored_ = false;
