@@ -2,11 +2,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "cloth_hair_sim/core/common/input_error.h"
 #include "cloth_hair_sim/core/drape/seam_groups.h"
 
+#include "cloth_hair_sim/core/fem_shell/coarse_start.h"
 #include "cloth_hair_sim/core/fem_shell/shell_model.h"
 #include "cloth_hair_sim/core/solver/arc_length_solver.h"
 #include "cloth_hair_sim/core/solver/energy_newton.h"
@@ -14,6 +16,10 @@
 namespace chs {
 
 namespace {
+
+// The coarsest grid a nested start goes down to, in cells along a side: coarser, a drape's
+// folds no longer fit.
+constexpr int kMinCoarseCells = 8;
 
 void perturb(ShellModel& model, const FemShellSettings& settings) {
   if (settings.imperfection <= 0.0) return;
@@ -224,8 +230,34 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
   DrapeResult r;
   if (problem.seams.empty()) {
     ShellModel model(problem, settings.contact_stiffness, settings.edge_contact);
-    perturb(model, settings);
+    std::optional<GridCoarsening> grid;
+    if (settings.coarse_levels > 0) grid = GridCoarsening::of(problem, kMinCoarseCells);
+    DrapeResult coarse;
+    if (grid) {
+      FemShellSettings below = settings;
+      --below.coarse_levels;
+      coarse = solveFemShell(grid->coarse(), below, progress);
+      if (coarse.converged)
+        model.setNodes(grid->prolong(coarse.positions, coarse.directors, model.nodes(), problem));
+    }
+    if (!coarse.converged) perturb(model, settings);
     r = solveModel(problem, model, settings, progress);
+    if (grid) {
+      std::ostringstream from;
+      if (coarse.converged)
+        from << "; started from the drape of the " << grid->cellsX() / 2 << " x "
+             << grid->cellsY() / 2 << " grid (" << coarse.iterations << " iterations"
+             << (coarse.status.find("started from") != std::string::npos ? ", itself nested" : "")
+             << "), " << r.iterations << " iterations on this one";
+      else
+        from << "; the " << grid->cellsX() / 2 << " x " << grid->cellsY() / 2
+             << " grid's drape, to start from, failed (" << coarse.status
+             << "): solved from the flat sheet";
+      r.status += from.str();
+      r.iterations += coarse.iterations;
+      r.coarse_iterations = coarse.iterations;
+      r.history.insert(r.history.begin(), coarse.history.begin(), coarse.history.end());
+    }
   } else {
     r = solveSewn(problem, settings, progress);
   }

@@ -32,6 +32,7 @@ std::string drapeReportJson(const DrapeResult& r, const ReportContext& c) {
   j["converged"] = r.converged;
   j["status"] = r.status;
   j["iterations"] = r.iterations;
+  j["coarse_iterations"] = r.coarse_iterations;
   j["load_steps"] = r.load_steps;
   j["load_factor"] = num(r.load_factor);
   j["residual"] = num(r.residual);

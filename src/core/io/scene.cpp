@@ -272,6 +272,7 @@ FemShellSettings parseFemShell(const YAML::Node& node) {
   f.max_saddle_escapes = s.integer("max_saddle_escapes", f.max_saddle_escapes, 0);
   f.edge_contact = s.boolean("edge_contact", f.edge_contact);
   f.seam_steps = s.integer("seam_steps", f.seam_steps, 1);
+  f.coarse_levels = s.integer("coarse_levels", f.coarse_levels, 0);
   s.done();
   if (f.tolerance >= 1.0) fail(s.key("tolerance"), "must be below 1 (a relative residual)");
   if (f.initial_load_increment > f.max_load_increment)
@@ -531,7 +532,8 @@ std::vector<std::pair<std::string, double>> settingsList(const FemShellSettings&
       {"max_iterations", s.max_iterations},
       {"max_saddle_escapes", s.max_saddle_escapes},
       {"edge_contact", s.edge_contact ? 1.0 : 0.0},
-      {"seam_steps", s.seam_steps}};
+      {"seam_steps", s.seam_steps},
+      {"coarse_levels", s.coarse_levels}};
 }
 
 std::vector<std::pair<std::string, double>> settingsList(const ParticleSettings& s) {

@@ -104,6 +104,8 @@ struct DrapeResult {
   int peak_active_nodes = 0;
   int load_steps = 0;
   int iterations = 0;  // total Newton (or relaxation) iterations
+  // Of those, the ones on the coarser grids of a nested start (FemShellSettings::coarse_levels).
+  int coarse_iterations = 0;
   double load_factor = 0.0;
   double residual = 0.0;
   std::vector<ProgressEvent> history;
