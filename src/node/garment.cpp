@@ -232,17 +232,26 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
   return g;
 }
 
-void resetDynamics(Garment& g, const SimParams& params) {
-  g.body.reset();
+FreshDynamics freshDynamics(const chs::DrapeProblem& reference,
+                            const std::optional<double>& self_friction, const SimParams& params) {
+  FreshDynamics f;
   if (params.dynamics_backend == "mpm") {
     chs::HybridShellSettings s = params.mpm;
-    if (g.self_friction) s.contact.friction = *g.self_friction;
-    auto shell = std::make_shared<chs::HybridShellDynamics>(g.reference, s);
-    g.dynamics = shell;
-    g.body = shell;
+    if (self_friction) s.contact.friction = *self_friction;
+    auto shell = std::make_shared<chs::HybridShellDynamics>(reference, s);
+    f.dynamics = shell;
+    f.body = shell;
   } else {
-    g.dynamics = std::make_shared<chs::ParticleDynamics>(g.reference, params.particle);
+    f.dynamics = std::make_shared<chs::ParticleDynamics>(reference, params.particle);
   }
+  return f;
+}
+
+void resetDynamics(Garment& g, const SimParams& params) {
+  g.body.reset();
+  FreshDynamics f = freshDynamics(g.reference, g.self_friction, params);
+  g.dynamics = std::move(f.dynamics);
+  g.body = std::move(f.body);
 }
 
 }  // namespace chs_node

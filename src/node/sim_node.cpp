@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
+#include <tuple>
 
 #include <geometry_msgs/WrenchStamped.h>
 #include <rosgraph_msgs/Clock.h>
@@ -968,12 +971,44 @@ bool SimNode::listGarments(cloth_hair_sim::ListGarments::Request&,
 }
 
 bool SimNode::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  // The garments' fresh states are built before the world is held: a shell builds its elastic
+  // solve with it (0.8 s for a 90 x 90 sheet), and the world's steps and the other services
+  // would wait for that. A garment loaded, reset or changed in the meantime (a new generation)
+  // is built again under the lock.
+  struct Fresh {
+    std::uint64_t generation = 0;
+    FreshDynamics state;
+  };
+  std::map<std::string, Fresh> fresh;
+  try {
+    std::vector<std::tuple<std::string, std::uint64_t, chs::DrapeProblem, std::optional<double>>>
+        garments;
+    SimParams params;
+    {
+      const WorldLock lock(*this);
+      params = garmentParams();
+      for (const auto& [name, g] : garments_)
+        garments.emplace_back(name, g.generation, g.reference, g.self_friction);
+    }
+    for (const auto& [name, generation, reference, self_friction] : garments)
+      fresh[name] = {generation, freshDynamics(reference, self_friction, params)};
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();  // nothing changed
+    return true;
+  }
   const WorldLock lock(*this);
   std::vector<std::string> released;
   try {
     const SimParams params = garmentParams();
     for (auto& [name, g] : garments_) {
-      resetDynamics(g, params);
+      const auto built = fresh.find(name);
+      if (built != fresh.end() && built->second.generation == g.generation) {
+        g.dynamics = built->second.state.dynamics;
+        g.body = built->second.state.body;
+      } else {
+        resetDynamics(g, params);
+      }
       g.generation = next_generation_++;
       g.diverged_stops = 0;
       g.dynamics->setColliders(colliders_.surfaces(), {}, colliders_.frictions());

@@ -54,9 +54,18 @@ Garment buildGarment(const cloth_hair_sim::LoadGarment::Request& req,
                      const std::map<std::string, Eigen::Isometry3d>& world_from_frames,
                      const SimParams& params);
 
-// A fresh dynamic state at the garment's reference (reset), with the backend the parameters
-// name (an mpm garment on a grid of params.mpm.grid_spacing, the world's once it has one).
-// Throws chs::InputError when the backend refuses the garment.
+// A fresh dynamic state at a garment's reference, with the backend the parameters name (an mpm
+// garment on a grid of params.mpm.grid_spacing, the world's once it has one; Coulomb mu between
+// its layers self_friction when set), apart from the garment: ~reset builds them before it holds
+// the world. Throws chs::InputError when the backend refuses the garment.
+struct FreshDynamics {
+  std::shared_ptr<chs::ClothDynamics> dynamics;
+  std::shared_ptr<chs::Body> body;  // the same object (mpm), or null (particle)
+};
+FreshDynamics freshDynamics(const chs::DrapeProblem& reference,
+                            const std::optional<double>& self_friction, const SimParams& params);
+
+// The garment's dynamics replaced by freshDynamics (reset).
 void resetDynamics(Garment& garment, const SimParams& params);
 
 }  // namespace chs_node
