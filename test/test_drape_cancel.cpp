@@ -45,6 +45,30 @@ TEST(DrapeCancel, FemShellEnergyMinimisationReturnsTheLastAcceptedIterate) {
   ASSERT_TRUE(allFinite(r.positions));
 }
 
+// A nested start (fem_shell.coarse_levels) cancelled while it drapes the coarse grid: the fine
+// sheet is returned as it started, flat, with the coarse grid's iterations.
+TEST(DrapeCancel, FemShellNestedStartCancelledOnTheCoarseGrid) {
+  Scene scene = loadScene(std::string(CHS_SOURCE_DIR) + "/scenes/pedestal_square_48.yaml");
+  ASSERT_EQ(scene.fem_shell.coarse_levels, 1);
+  CancelFlag cancel{false};
+  scene.fem_shell.cancel = &cancel;
+  int events_after_cancel = 0;
+  const DrapeResult r = solveFemShell(scene.problem, scene.fem_shell, [&](const ProgressEvent& e) {
+    if (cancel) ++events_after_cancel;
+    if (e.iteration == 3) cancel = true;
+  });
+  std::printf("cancelled: %s\n", r.status.c_str());
+  EXPECT_TRUE(r.cancelled);
+  EXPECT_FALSE(r.converged);
+  EXPECT_NE(r.status.find("coarser grid"), std::string::npos) << r.status;
+  EXPECT_EQ(events_after_cancel, 0);
+  EXPECT_EQ(r.iterations, 3);
+  EXPECT_EQ(r.coarse_iterations, 3);
+  ASSERT_EQ(r.positions.size(), scene.problem.mesh.vertices.size());
+  for (std::size_t v = 0; v < r.positions.size(); ++v)
+    EXPECT_EQ(r.positions[v], scene.problem.mesh.vertices[v]) << "vertex " << v;
+}
+
 TEST(DrapeCancel, FemShellStopsAtOnceAndReturnsTheLastConvergedLoadStep) {
   Scene scene = tablecloth("tablecloth_fem.yaml");
   CancelFlag cancel{false};

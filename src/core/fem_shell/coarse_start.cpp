@@ -18,6 +18,15 @@ std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int m
       nx < 2 * min_cells || ny < 2 * min_cells)
     return std::nullopt;
   const auto id = [nx](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      std::array<int, 4> want{id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)};
+      std::array<int, 4> have = mesh.quads[j * nx + i];
+      std::sort(want.begin(), want.end());
+      std::sort(have.begin(), have.end());
+      if (want != have) return std::nullopt;
+    }
+
   // The coarse grid must resolve the folds: its cells no longer than 3/4 of the bending length
   // (D / (rho_A g))^(1/3) of the sheet under its own weight. At a whole bending length the
   // coarse drape is another one and the fine Newton's path from it long (the 48 x 48 pedestal
@@ -34,14 +43,6 @@ std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int m
                               (mesh.vertices[id(i, j + 2)] - x).norm()});
     }
   if (coarse_cell > 0.75 * bending_length) return std::nullopt;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      std::array<int, 4> want{id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)};
-      std::array<int, 4> have = mesh.quads[j * nx + i];
-      std::sort(want.begin(), want.end());
-      std::sort(have.begin(), have.end());
-      if (want != have) return std::nullopt;
-    }
 
   GridCoarsening g;
   g.nx_ = nx;

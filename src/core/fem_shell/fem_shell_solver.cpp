@@ -237,6 +237,19 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
       FemShellSettings below = settings;
       --below.coarse_levels;
       coarse = solveFemShell(grid->coarse(), below, progress);
+      if (coarse.cancelled) {
+        r.cancelled = true;
+        r.status =
+            "cancelled while draping the coarser grid to start from; the flat sheet returned";
+        for (const auto& n : model.nodes()) {
+          r.positions.push_back(n.position);
+          r.directors.push_back(n.frame.director());
+        }
+        r.iterations = r.coarse_iterations = coarse.iterations;
+        r.wall_time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return r;
+      }
       if (coarse.converged)
         model.setNodes(grid->prolong(coarse.positions, coarse.directors, model.nodes(), problem));
     }

@@ -29,7 +29,8 @@ class ModifiedHessian {
     // A problem with a potential has a symmetric tangent (ShellElement's, the penalty's): its
     // upper triangle is K_s, copied into the lower triangle of P H P^T that CHOLMOD factorises.
     if (!cholesky_) {
-      cholesky_ = std::make_unique<PermutedCholesky>(fewestFlopsOrder(K));
+      const Eigen::SparseMatrix<double> pattern = K.selfadjointView<Eigen::Upper>();
+      cholesky_ = std::make_unique<PermutedCholesky>(fewestFlopsOrder(pattern));
       H_ = cholesky_->permutedLower(K, slot_);
       for (int c = 0; c < K.outerSize(); ++c)
         for (int i = K.outerIndexPtr()[c]; i < K.outerIndexPtr()[c + 1]; ++i)
@@ -57,8 +58,8 @@ class ModifiedHessian {
   std::unique_ptr<PermutedCholesky> cholesky_;
   Eigen::SparseMatrix<double> H_;  // the lower triangle of P H P^T
   std::vector<int> slot_;          // of each of K's values in H_ (-1: below the diagonal)
-  std::vector<int> diagonal_;      // H_'s diagonal entries
-  Eigen::VectorXd diag_;           // of K_s
+  std::vector<int> diagonal_;      // H_'s diagonal entries, in K's order
+  Eigen::VectorXd diag_;           // K_s's diagonal, unshifted
   double mu_ = 0.0;
 };
 
