@@ -46,11 +46,15 @@ TEST(FemShellCoarseStart, WhichGridsCoarsen) {
     const auto& x = c.mesh.vertices;
     EXPECT_GT((x[q[2]] - x[q[0]]).cross(x[q[3]] - x[q[1]]).z(), 0.0);
   }
-  EXPECT_FALSE(GridCoarsening::of(sheet(47), 8)) << "odd cell count";
+  std::string why;
+  EXPECT_FALSE(GridCoarsening::of(sheet(47), 8, &why)) << "odd cell count";
+  EXPECT_NE(why.find("not even"), std::string::npos) << why;
   EXPECT_FALSE(GridCoarsening::of(sheet(14, 1000.0), 8)) << "7 coarse cells, fewer than 8";
   EXPECT_TRUE(GridCoarsening::of(sheet(16, 1000.0), 8));
   // 20 x 20 wool: coarse cells of 20 mm, 1.2 bending lengths: the folds would not fit.
-  EXPECT_FALSE(GridCoarsening::of(sheet(20), 8)) << "coarse cells too long";
+  EXPECT_FALSE(GridCoarsening::of(sheet(20), 8, &why)) << "coarse cells too long";
+  std::printf("  20 x 20 wool sheet: %s\n", why.c_str());
+  EXPECT_NE(why.find("bending length"), std::string::npos) << why;
   DrapeProblem shuffled = sheet(48);
   std::swap(shuffled.mesh.vertices[3], shuffled.mesh.vertices[70]);
   for (auto& q : shuffled.mesh.quads)

@@ -35,6 +35,7 @@ void DrapeAction::execute(const cloth_hair_sim::DrapeSolveGoalConstPtr& goal) {
   req.stabilization = goal->stabilization;
   req.scheme = goal->scheme;
   req.adaptive_levels = goal->adaptive_levels;
+  req.coarse_levels = goal->coarse_levels;
 
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();

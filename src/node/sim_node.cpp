@@ -1142,12 +1142,16 @@ bool SimNode::drape(const cloth_hair_sim::DrapeSolve::Request& req,
     if (method != chs::DrapeMethod::kSolidShell &&
         (!req.scheme.empty() || req.adaptive_levels != 0))
       throw chs::InputError("scheme and adaptive_levels apply to method solid_shell only");
+    if (req.coarse_levels < 0) throw chs::InputError("coarse_levels must be >= 0 (0: off)");
+    if (method != chs::DrapeMethod::kFemShell && req.coarse_levels != 0)
+      throw chs::InputError("coarse_levels applies to method fem_shell only");
     chs::DrapeResult r;
     if (method == chs::DrapeMethod::kFemShell) {
       chs::FemShellSettings s;
       if (req.tolerance > 0.0) s.tolerance = req.tolerance;
       if (req.max_iterations > 0) s.max_load_steps = s.max_iterations = req.max_iterations;
       s.stabilization = req.stabilization;
+      s.coarse_levels = req.coarse_levels;
       s.cancel = cancel;
       r = chs::solveFemShell(problem, s, progress);
     } else if (method == chs::DrapeMethod::kSolidShell) {

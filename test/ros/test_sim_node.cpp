@@ -511,6 +511,26 @@ TEST_F(SimNodeTest, DrapesATableclothOverTheTfTable) {
       },
       &a));
 
+  // A nested start asked for on a grid too coarse to coarsen: solved from the flat sheet, and
+  // the message says why; a negative level and a level for another method are refused.
+  drape.request.coarse_levels = 1;
+  ASSERT_TRUE(ros::service::call("/sim/drape_solve", drape));
+  EXPECT_TRUE(drape.response.success) << drape.response.message;
+  EXPECT_NE(drape.response.message.find("no nested start"), std::string::npos)
+      << drape.response.message;
+  drape.request.coarse_levels = -1;
+  ASSERT_TRUE(ros::service::call("/sim/drape_solve", drape));
+  EXPECT_FALSE(drape.response.success);
+  EXPECT_NE(drape.response.message.find("coarse_levels"), std::string::npos)
+      << drape.response.message;
+  drape.request.method = "particle";
+  drape.request.coarse_levels = 1;
+  ASSERT_TRUE(ros::service::call("/sim/drape_solve", drape));
+  EXPECT_FALSE(drape.response.success);
+  EXPECT_NE(drape.response.message.find("fem_shell only"), std::string::npos)
+      << drape.response.message;
+  drape.request.coarse_levels = 0;
+
   // The particle method on the same garment converges too.
   drape.request.method = "particle";
   drape.request.stabilization = 0.0;

@@ -3,20 +3,27 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <sstream>
 
 namespace chs {
 
-std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int min_cells) {
+std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int min_cells,
+                                                 std::string* why) {
+  const auto none = [why](const std::string& reason) {
+    if (why) *why = reason;
+    return std::nullopt;
+  };
   const QuadMesh& mesh = fine.mesh;
-  if (mesh.quads.empty() || !fine.seams.empty() || !fine.bc.loads.empty()) return std::nullopt;
+  if (!fine.seams.empty()) return none("the garment has seams");
+  if (!fine.bc.loads.empty()) return none("the garment has nodal loads");
+  const auto not_grid = [&] { return none("the mesh is not a rectangle's regular grid"); };
+  if (mesh.quads.empty()) return not_grid();
   // makeRectangleMesh's first quad is {0, 1, nx + 2, nx + 1} (up to orientation).
   const auto& q0 = mesh.quads[0];
   const int nx = *std::max_element(q0.begin(), q0.end()) - 2;
-  if (nx < 1 || mesh.numQuads() % nx != 0) return std::nullopt;
+  if (nx < 1 || mesh.numQuads() % nx != 0) return not_grid();
   const int ny = mesh.numQuads() / nx;
-  if (mesh.numVertices() != (nx + 1) * (ny + 1) || nx % 2 != 0 || ny % 2 != 0 ||
-      nx < 2 * min_cells || ny < 2 * min_cells)
-    return std::nullopt;
+  if (mesh.numVertices() != (nx + 1) * (ny + 1)) return not_grid();
   const auto id = [nx](int i, int j) { return j * (nx + 1) + i; };
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
@@ -24,8 +31,13 @@ std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int m
       std::array<int, 4> have = mesh.quads[j * nx + i];
       std::sort(want.begin(), want.end());
       std::sort(have.begin(), have.end());
-      if (want != have) return std::nullopt;
+      if (want != have) return not_grid();
     }
+  const std::string cells = std::to_string(nx) + " x " + std::to_string(ny) + " cells";
+  if (nx % 2 != 0 || ny % 2 != 0) return none(cells + ", not even both ways");
+  if (nx < 2 * min_cells || ny < 2 * min_cells)
+    return none(cells + ": the coarse grid would have fewer than " + std::to_string(min_cells) +
+                " along a side");
 
   // The coarse grid must resolve the folds: its cells no longer than 3/4 of the bending length
   // (D / (rho_A g))^(1/3) of the sheet under its own weight. At a whole bending length the
@@ -33,7 +45,8 @@ std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int m
   // from 12 x 12 by way of 24 x 24: 239 + 56 iterations against 78 from the flat sheet);
   // docs/BENCHMARKS.md, 2026-12-08, has the measurements.
   const double weight = fine.material.areal_density * fine.gravity.norm();
-  if (fine.material.kawabata || !(weight > 0.0)) return std::nullopt;
+  if (fine.material.kawabata) return none("Kawabata bending has no bending length");
+  if (!(weight > 0.0)) return none("without weight the sheet has no bending length");
   const double bending_length = std::cbrt(fine.material.bendingStiffness() / weight);
   double coarse_cell = 0.0;
   for (int j = 0; j + 2 <= ny; j += 2)
@@ -42,7 +55,13 @@ std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int m
       coarse_cell = std::max({coarse_cell, (mesh.vertices[id(i + 2, j)] - x).norm(),
                               (mesh.vertices[id(i, j + 2)] - x).norm()});
     }
-  if (coarse_cell > 0.75 * bending_length) return std::nullopt;
+  if (coarse_cell > 0.75 * bending_length) {
+    std::ostringstream reason;
+    reason.precision(3);
+    reason << "the coarse grid's cells of " << 1e3 * coarse_cell
+           << " mm would exceed 3/4 of the bending length, " << 1e3 * bending_length << " mm";
+    return none(reason.str());
+  }
 
   GridCoarsening g;
   g.nx_ = nx;

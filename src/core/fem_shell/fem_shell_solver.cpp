@@ -231,7 +231,8 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
   if (problem.seams.empty()) {
     ShellModel model(problem, settings.contact_stiffness, settings.edge_contact);
     std::optional<GridCoarsening> grid;
-    if (settings.coarse_levels > 0) grid = GridCoarsening::of(problem, kMinCoarseCells);
+    std::string no_grid;
+    if (settings.coarse_levels > 0) grid = GridCoarsening::of(problem, kMinCoarseCells, &no_grid);
     DrapeResult coarse;
     if (grid) {
       FemShellSettings below = settings;
@@ -255,6 +256,7 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
     }
     if (!coarse.converged) perturb(model, settings);
     r = solveModel(problem, model, settings, progress);
+    if (settings.coarse_levels > 0 && !grid) r.status += "; no nested start: " + no_grid;
     if (grid) {
       std::ostringstream from;
       if (coarse.converged)

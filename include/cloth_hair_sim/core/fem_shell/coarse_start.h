@@ -1,5 +1,6 @@
 #pragma once
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "cloth_hair_sim/core/drape/drape_problem.h"
@@ -19,8 +20,9 @@ class GridCoarsening {
  public:
   // Empty where the problem is not such a grid, has fewer than 2 * min_cells cells along a side,
   // or the coarse cells would be longer than 3/4 of the sheet's bending length (D / (rho_A
-  // g))^(1/3) (no coarse grid for Kawabata bending or without gravity).
-  static std::optional<GridCoarsening> of(const DrapeProblem& fine, int min_cells);
+  // g))^(1/3) (no coarse grid for Kawabata bending or without gravity); then *why says which.
+  static std::optional<GridCoarsening> of(const DrapeProblem& fine, int min_cells,
+                                          std::string* why = nullptr);
 
   // The same garment, material, gravity and colliders on every second grid line; a fine vertex
   // held (clamped, pinned, a fixed component) holds the coarse vertex nearest to it.
