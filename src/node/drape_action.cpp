@@ -53,6 +53,7 @@ void DrapeAction::execute(const cloth_hair_sim::DrapeSolveGoalConstPtr& goal) {
     f.load_factor = e.load_factor;
     f.iteration = e.iteration;
     f.total_iterations = e.total_iterations;
+    f.coarser_grids = e.coarser_grids;
     f.residual = e.residual;
     f.active_contacts = e.active_contacts;
     f.elapsed = std::chrono::duration<double>(now - start).count();

@@ -96,8 +96,12 @@ int run(int argc, char** argv) {
   chs::ProgressCallback progress;
   if (!opt.quiet)
     progress = [](const chs::ProgressEvent& e) {
-      std::printf("step %4d  load %.6f  iter %3d  residual %.3e  contacts %d\n", e.load_step,
-                  e.load_factor, e.iteration, e.residual, e.active_contacts);
+      std::printf("step %4d  load %.6f  iter %3d  residual %.3e  contacts %d%s\n", e.load_step,
+                  e.load_factor, e.iteration, e.residual, e.active_contacts,
+                  e.coarser_grids == 0 ? ""
+                  : e.coarser_grids == 1
+                      ? "  (coarser grid)"
+                      : ("  (" + std::to_string(e.coarser_grids) + " grids coarser)").c_str());
       std::fflush(stdout);
     };
   const auto start = std::chrono::steady_clock::now();

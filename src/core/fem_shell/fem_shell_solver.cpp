@@ -237,7 +237,15 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
     if (grid) {
       FemShellSettings below = settings;
       --below.coarse_levels;
-      coarse = solveFemShell(grid->coarse(), below, progress);
+      ProgressCallback coarse_progress;
+      if (progress)
+        coarse_progress = [&progress](const ProgressEvent& e) {
+          ProgressEvent c = e;
+          ++c.coarser_grids;
+          progress(c);
+        };
+      coarse = solveFemShell(grid->coarse(), below, coarse_progress);
+      for (ProgressEvent& e : coarse.history) ++e.coarser_grids;
       if (coarse.cancelled) {
         r.cancelled = true;
         r.status =

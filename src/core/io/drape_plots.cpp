@@ -38,7 +38,7 @@ void plotConvergence(const DrapeResult& result, const std::string& png_path,
     if (e.load_step != step || e.iteration < last) offset += last, step = e.load_step;
     last = e.iteration;
     s << offset + e.iteration << ' ' << std::max(e.residual, 1e-300) << ' ' << e.load_factor << ' '
-      << e.load_step << '\n';
+      << e.load_step << ' ' << e.coarser_grids << '\n';
   }
   s << "EOD\n"
     << "set terminal pngcairo size 1000,600 enhanced font 'DejaVu Sans,11'\n"
@@ -52,8 +52,16 @@ void plotConvergence(const DrapeResult& result, const std::string& png_path,
     s << "set arrow from graph 0, first " << tolerance << " to graph 1, first " << tolerance
       << " nohead dt 2 lc rgb 'gray40'\n"
       << "set label 'tolerance' at graph 0.01, first " << tolerance * 1.8 << " tc rgb 'gray40'\n";
-  s << "plot $hist using 1:2 with linespoints pt 7 ps 0.5 lc rgb '#1f77b4' title 'residual', "
-    << "$hist using 1:3 axes x1y2 with steps lw 2 lc rgb '#d62728' title 'load factor'\n";
+  // A nested start's coarser grids (their residuals on their own grids) in another colour.
+  const bool nested = std::any_of(result.history.begin(), result.history.end(),
+                                  [](const ProgressEvent& e) { return e.coarser_grids > 0; });
+  if (nested) s << "set key below\nset bmargin 6\n";  // its first points stand where the key would
+  s << "plot $hist using 1:($5 == 0 ? $2 : 1/0) with linespoints pt 7 ps 0.5 lc rgb '#1f77b4' "
+       "title 'residual', ";
+  if (nested)
+    s << "$hist using 1:($5 > 0 ? $2 : 1/0) with linespoints pt 7 ps 0.5 lc rgb '#2ca02c' "
+         "title 'residual on the coarser grids', ";
+  s << "$hist using 1:3 axes x1y2 with steps lw 2 lc rgb '#d62728' title 'load factor'\n";
   runGnuplot(s.str());
 }
 

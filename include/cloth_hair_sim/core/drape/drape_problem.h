@@ -77,6 +77,9 @@ struct ProgressEvent {
   double residual = 0.0;  // relative residual norm
   int active_contacts = 0;
   int total_iterations = 0;  // of the whole solve so far (iteration restarts each load step)
+  // On a coarser grid of a nested start (FemShellSettings::coarse_levels): how many levels below
+  // the problem's own; 0 on the problem's grid.
+  int coarser_grids = 0;
 };
 using ProgressCallback = std::function<void(const ProgressEvent&)>;
 
