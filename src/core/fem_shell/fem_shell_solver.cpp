@@ -269,9 +269,9 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
       std::ostringstream from;
       if (coarse.converged)
         from << "; started from the drape of the " << grid->cellsX() / 2 << " x "
-             << grid->cellsY() / 2 << " grid (" << coarse.iterations << " iterations"
+             << grid->cellsY() / 2 << " grid (" << coarse.iterations << " iterations there"
              << (coarse.status.find("started from") != std::string::npos ? ", itself nested" : "")
-             << "), " << r.iterations << " iterations on this one";
+             << ")";
       else
         from << "; the " << grid->cellsX() / 2 << " x " << grid->cellsY() / 2
              << " grid's drape, to start from, failed (" << coarse.status
