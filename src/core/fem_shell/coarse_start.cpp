@@ -7,7 +7,60 @@
 
 namespace chs {
 
-std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int min_cells,
+namespace {
+
+enum Role : char { kUnknown = 0, kCorner, kMid, kCentre };
+
+// Each quad's corners as a coarse corner, an edge midpoint, a face centre and an edge midpoint
+// in cyclic order, from the start quad's corner `first` taken as a coarse corner and spread from
+// quad to quad over shared corners and face centres (two quads that share an edge share one of
+// those); empty if the roles contradict somewhere, a quad is not reached or a face centre is not
+// among four quads.
+std::vector<char> roles(const QuadMesh& mesh, const std::vector<std::vector<int>>& quads_of,
+                        int first) {
+  std::vector<char> role(mesh.numVertices(), kUnknown);
+  std::vector<char> done(mesh.numQuads(), 0);
+  // Gives quad q the roles that put role r at its corner k; false on a contradiction.
+  const auto assign = [&](int q, int k, char r) {
+    static constexpr char kCycle[4] = {kCorner, kMid, kCentre, kMid};
+    const int offset = r == kCorner ? 0 : 2;  // r is kCorner or kCentre
+    for (int i = 0; i < 4; ++i) {
+      const char want = kCycle[(offset + i) % 4];
+      char& have = role[mesh.quads[q][(k + i) % 4]];
+      if (have != kUnknown && have != want) return false;
+      have = want;
+    }
+    done[q] = 1;
+    return true;
+  };
+  std::vector<int> queue;
+  if (!assign(0, first, kCorner)) return {};
+  queue.push_back(0);
+  while (!queue.empty()) {
+    const int q = queue.back();
+    queue.pop_back();
+    for (int v : mesh.quads[q]) {
+      if (role[v] == kMid) continue;
+      for (int n : quads_of[v]) {
+        if (done[n]) continue;
+        const int k = static_cast<int>(std::find(mesh.quads[n].begin(), mesh.quads[n].end(), v) -
+                                       mesh.quads[n].begin());
+        if (!assign(n, k, role[v])) return {};
+        queue.push_back(n);
+      }
+    }
+  }
+  if (std::find(done.begin(), done.end(), 0) != done.end()) return {};
+  // A face centre is inside its coarse quad, among four fine ones (the roles shifted by one grid
+  // line agree quad by quad too, and fail here, at the boundary).
+  for (int v = 0; v < mesh.numVertices(); ++v)
+    if (role[v] == kCentre && quads_of[v].size() != 4) return {};
+  return role;
+}
+
+}  // namespace
+
+std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int min_quads,
                                                  std::string* why) {
   const auto none = [why](const std::string& reason) {
     if (why) *why = reason;
@@ -16,30 +69,66 @@ std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int m
   const QuadMesh& mesh = fine.mesh;
   if (!fine.seams.empty()) return none("the garment has seams");
   if (!fine.bc.loads.empty()) return none("the garment has nodal loads");
-  const auto not_grid = [&] { return none("the mesh is not a rectangle's regular grid"); };
-  if (mesh.quads.empty()) return not_grid();
-  // makeRectangleMesh's first quad is {0, 1, nx + 2, nx + 1} (up to orientation).
-  const auto& q0 = mesh.quads[0];
-  const int nx = *std::max_element(q0.begin(), q0.end()) - 2;
-  if (nx < 1 || mesh.numQuads() % nx != 0) return not_grid();
-  const int ny = mesh.numQuads() / nx;
-  if (mesh.numVertices() != (nx + 1) * (ny + 1)) return not_grid();
-  const auto id = [nx](int i, int j) { return j * (nx + 1) + i; };
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      std::array<int, 4> want{id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)};
-      std::array<int, 4> have = mesh.quads[j * nx + i];
-      std::sort(want.begin(), want.end());
-      std::sort(have.begin(), have.end());
-      if (want != have) return not_grid();
-    }
-  const std::string cells = std::to_string(nx) + " x " + std::to_string(ny) + " cells";
-  if (nx % 2 != 0 || ny % 2 != 0) return none(cells + ", not even both ways");
-  if (nx < 2 * min_cells || ny < 2 * min_cells)
-    return none(cells + ": the coarse grid would have fewer than " + std::to_string(min_cells) +
-                " along a side");
+  const int nv = mesh.numVertices();
+  std::vector<std::vector<int>> quads_of(nv);
+  for (int q = 0; q < mesh.numQuads(); ++q)
+    for (int v : mesh.quads[q]) quads_of[v].push_back(q);
+  std::vector<char> role;
+  for (int first = 0; first < 4 && role.empty() && mesh.numQuads() > 0; ++first)
+    role = roles(mesh, quads_of, first);
+  if (role.empty()) return none("the mesh is not a 2 x 2 refinement of a coarser one");
 
-  // The coarse grid must resolve the folds: its cells no longer than 3/4 of the bending length
+  GridCoarsening g;
+  DrapeProblem& c = g.coarse_;
+  std::vector<int> coarse_of(nv, -1);
+  for (int v = 0; v < nv; ++v)
+    if (role[v] == kCorner) {
+      coarse_of[v] = c.mesh.numVertices();
+      c.mesh.vertices.push_back(mesh.vertices[v]);
+    }
+  g.parents_.resize(nv);
+  for (int v = 0; v < nv; ++v) {
+    if (role[v] != kCentre) continue;
+    // A face centre: its four quads round it, each with a coarse corner opposite it; walked the
+    // way the quads run (from the centre, the corner two on), so the coarse quad runs so too.
+    std::array<int, 4> quad{};
+    int q = quads_of[v].front();
+    for (int i = 0; i < 4; ++i) {
+      const auto& f = mesh.quads[q];
+      const int k = static_cast<int>(std::find(f.begin(), f.end(), v) - f.begin());
+      quad[i] = coarse_of[f[(k + 2) % 4]];
+      const int next_mid = f[(k + 3) % 4];
+      const auto it = std::find_if(quads_of[v].begin(), quads_of[v].end(), [&](int n) {
+        return n != q && std::count(mesh.quads[n].begin(), mesh.quads[n].end(), next_mid) > 0;
+      });
+      if (it == quads_of[v].end())
+        return none("the mesh is not a 2 x 2 refinement of a coarser one");
+      q = *it;
+    }
+    c.mesh.quads.push_back(quad);
+    g.parents_[v].assign(quad.begin(), quad.end());
+  }
+  for (int v = 0; v < nv; ++v) {
+    if (role[v] == kCorner) g.parents_[v] = {coarse_of[v]};
+    if (role[v] != kMid) continue;
+    // An edge midpoint: the two coarse corners it joins along fine edges.
+    for (int q : quads_of[v]) {
+      const auto& f = mesh.quads[q];
+      const int k = static_cast<int>(std::find(f.begin(), f.end(), v) - f.begin());
+      for (int n : {f[(k + 1) % 4], f[(k + 3) % 4]})
+        if (role[n] == kCorner && std::find(g.parents_[v].begin(), g.parents_[v].end(),
+                                            coarse_of[n]) == g.parents_[v].end())
+          g.parents_[v].push_back(coarse_of[n]);
+    }
+    if (g.parents_[v].size() != 2)
+      return none("the mesh is not a 2 x 2 refinement of a coarser one");
+  }
+  if (c.mesh.numQuads() < min_quads)
+    return none("the coarser mesh would have " + std::to_string(c.mesh.numQuads()) +
+                " quads, fewer than " + std::to_string(min_quads));
+
+  // The coarse mesh must resolve the folds: its edges on average no longer than 3/4 of the
+  // bending length
   // (D / (rho_A g))^(1/3) of the sheet under its own weight. At a whole bending length the
   // coarse drape is another one and the fine Newton's path from it long (the 48 x 48 pedestal
   // from 12 x 12 by way of 24 x 24: 239 + 56 iterations against 78 from the flat sheet);
@@ -48,48 +137,29 @@ std::optional<GridCoarsening> GridCoarsening::of(const DrapeProblem& fine, int m
   if (fine.material.kawabata) return none("Kawabata bending has no bending length");
   if (!(weight > 0.0)) return none("without weight the sheet has no bending length");
   const double bending_length = std::cbrt(fine.material.bendingStiffness() / weight);
-  double coarse_cell = 0.0;
-  for (int j = 0; j + 2 <= ny; j += 2)
-    for (int i = 0; i + 2 <= nx; i += 2) {
-      const Eigen::Vector3d& x = mesh.vertices[id(i, j)];
-      coarse_cell = std::max({coarse_cell, (mesh.vertices[id(i + 2, j)] - x).norm(),
-                              (mesh.vertices[id(i, j + 2)] - x).norm()});
-    }
-  if (coarse_cell > 0.75 * bending_length) {
+  double edges = 0.0;
+  for (const auto& q : c.mesh.quads)
+    for (int i = 0; i < 4; ++i)
+      edges += (c.mesh.vertices[q[i]] - c.mesh.vertices[q[(i + 1) % 4]]).norm();
+  const double mean_edge = edges / (4.0 * c.mesh.numQuads());
+  if (mean_edge > 0.75 * bending_length) {
     std::ostringstream reason;
     reason.precision(3);
-    reason << "the coarse grid's cells of " << 1e3 * coarse_cell
-           << " mm would exceed 3/4 of the bending length, " << 1e3 * bending_length << " mm";
+    reason << "the coarser mesh's edges of " << 1e3 * mean_edge
+           << " mm (mean) would exceed 3/4 of the bending length, " << 1e3 * bending_length
+           << " mm";
     return none(reason.str());
   }
 
-  GridCoarsening g;
-  g.nx_ = nx;
-  g.ny_ = ny;
-  const int cx = nx / 2, cy = ny / 2;
-  const auto coarse_id = [cx](int i, int j) { return j * (cx + 1) + i; };
-  DrapeProblem& c = g.coarse_;
   c.material = fine.material;
   c.fabric = fine.fabric;
   c.gravity = fine.gravity;
   c.colliders = fine.colliders;
-  for (int j = 0; j <= cy; ++j)
-    for (int i = 0; i <= cx; ++i) c.mesh.vertices.push_back(mesh.vertices[id(2 * i, 2 * j)]);
-  for (int j = 0; j < cy; ++j)
-    for (int i = 0; i < cx; ++i) {
-      std::array<int, 4> q{coarse_id(i, j), coarse_id(i + 1, j), coarse_id(i + 1, j + 1),
-                           coarse_id(i, j + 1)};
-      // The orientation of the fine quad at the coarse quad's first corner.
-      const auto& f = mesh.quads[2 * j * nx + 2 * i];
-      if (f[1] != id(2 * i + 1, 2 * j)) std::swap(q[1], q[3]);
-      c.mesh.quads.push_back(q);
-    }
-  // The coarse vertex nearest to a fine one (odd grid lines round down).
-  const auto nearest = [&](int v) { return coarse_id((v % (nx + 1)) / 2, (v / (nx + 1)) / 2); };
-  for (int v : fine.bc.clamped) c.bc.clamped.push_back(nearest(v));
-  for (int v : fine.bc.pinned) c.bc.pinned.push_back(nearest(v));
+  const auto next_to = [&g](int v) { return g.parents_[v].front(); };
+  for (int v : fine.bc.clamped) c.bc.clamped.push_back(next_to(v));
+  for (int v : fine.bc.pinned) c.bc.pinned.push_back(next_to(v));
   for (const auto& f : fine.bc.fixed_components)
-    c.bc.fixed_components.push_back({nearest(f.vertex), f.axis});
+    c.bc.fixed_components.push_back({next_to(f.vertex), f.axis});
   return g;
 }
 
@@ -97,28 +167,21 @@ std::vector<ShellNode> GridCoarsening::prolong(const std::vector<Eigen::Vector3d
                                                const std::vector<Eigen::Vector3d>& directors,
                                                const std::vector<ShellNode>& reference,
                                                const DrapeProblem& fine) const {
-  const int cx = nx_ / 2;
   std::vector<ShellNode> nodes = reference;
-  for (int j = 0; j <= ny_; ++j)
-    for (int i = 0; i <= nx_; ++i) {
-      // The coarse nodes around fine vertex (i, j): one, two or four, equally weighted.
-      Eigen::Vector3d x = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero();
-      int n = 0;
-      for (int b = j / 2; b <= (j + 1) / 2; ++b)
-        for (int a = i / 2; a <= (i + 1) / 2; ++a) {
-          x += positions[b * (cx + 1) + a];
-          t += directors[b * (cx + 1) + a];
-          ++n;
-        }
-      x /= n;
-      for (const auto& surface : fine.colliders) {
-        const SurfaceProjection p = surface->project(x);
-        if (p.gap < 0.0) x -= p.gap * p.normal;
-      }
-      ShellNode& node = nodes[j * (nx_ + 1) + i];
-      node.position = x;
-      if (t.norm() > 0.0) node.frame = DirectorFrame(t.normalized());
+  for (std::size_t v = 0; v < nodes.size(); ++v) {
+    Eigen::Vector3d u = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero();
+    for (int p : parents_[v]) {
+      u += positions[p] - coarse_.mesh.vertices[p];
+      t += directors[p];
     }
+    Eigen::Vector3d x = fine.mesh.vertices[v] + u / static_cast<double>(parents_[v].size());
+    for (const auto& surface : fine.colliders) {
+      const SurfaceProjection pr = surface->project(x);
+      if (pr.gap < 0.0) x -= pr.gap * pr.normal;
+    }
+    nodes[v].position = x;
+    if (t.norm() > 0.0) nodes[v].frame = DirectorFrame(t.normalized());
+  }
   for (int v : fine.bc.clamped) nodes[v] = reference[v];
   for (int v : fine.bc.pinned) nodes[v].position = reference[v].position;
   for (const auto& f : fine.bc.fixed_components)

@@ -17,9 +17,9 @@ namespace chs {
 
 namespace {
 
-// The coarsest grid a nested start goes down to, in cells along a side: coarser, a drape's
-// folds no longer fit.
-constexpr int kMinCoarseCells = 8;
+// The coarsest mesh a nested start goes down to, in quads (8 x 8 on a rectangle): coarser, a
+// drape's folds no longer fit.
+constexpr int kMinCoarseQuads = 64;
 
 void perturb(ShellModel& model, const FemShellSettings& settings) {
   if (settings.imperfection <= 0.0) return;
@@ -232,7 +232,7 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
     ShellModel model(problem, settings.contact_stiffness, settings.edge_contact);
     std::optional<GridCoarsening> grid;
     std::string no_grid;
-    if (settings.coarse_levels > 0) grid = GridCoarsening::of(problem, kMinCoarseCells, &no_grid);
+    if (settings.coarse_levels > 0) grid = GridCoarsening::of(problem, kMinCoarseQuads, &no_grid);
     DrapeResult coarse;
     if (grid) {
       FemShellSettings below = settings;
@@ -268,13 +268,13 @@ DrapeResult solveFemShell(const DrapeProblem& problem, const FemShellSettings& s
     if (grid) {
       std::ostringstream from;
       if (coarse.converged)
-        from << "; started from the drape of the " << grid->cellsX() / 2 << " x "
-             << grid->cellsY() / 2 << " grid (" << coarse.iterations << " iterations there"
+        from << "; started from the drape of the coarser mesh of " << grid->coarse().mesh.numQuads()
+             << " quads (" << coarse.iterations << " iterations there"
              << (coarse.status.find("started from") != std::string::npos ? ", itself nested" : "")
              << ")";
       else
-        from << "; the " << grid->cellsX() / 2 << " x " << grid->cellsY() / 2
-             << " grid's drape, to start from, failed (" << coarse.status
+        from << "; the drape of the coarser mesh of " << grid->coarse().mesh.numQuads()
+             << " quads, to start from, failed (" << coarse.status
              << "): solved from the flat sheet";
       r.status += from.str();
       r.iterations += coarse.iterations;
