@@ -43,9 +43,9 @@ struct FemShellSettings {
   // Sewing (DrapeProblem::seams): the tied partners' offsets go to zero in this many steps, each
   // an equilibrium; the last is the drape (solveFemShell).
   int seam_steps = 10;
-  // Nested start (fem_shell/coarse_start.h): a rectangle's even grid starts from the drape on
-  // every second grid line, itself started so, down this many levels while the coarse cells
-  // resolve the folds (0: from the flat sheet). Faster on fine grids; it may find another of
+  // Nested start (fem_shell/coarse_start.h): a 2 x 2 refined quad mesh starts from the drape on
+  // every second grid line, itself started so, down this many levels while the coarse mesh
+  // resolves the folds (0: from the flat sheet). Faster on fine grids; it may find another of
   // the drape's stable equilibria than the flat sheet's path does.
   int coarse_levels = 0;
   // Polled each iteration: once set, the solve returns the last converged load step (while
